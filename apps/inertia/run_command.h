@@ -1,0 +1,28 @@
+// `inertia run` and `inertia validate`: options and entry points.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace inertia::app {
+
+/// Exit codes of the command (DESIGN.md section 5).
+enum ExitCode : int { kOk = 0, kInternalError = 1, kBadInput = 2 };
+
+struct RunOptions {
+  std::string scene;
+  std::optional<double> duration;     ///< Simulated seconds (default 10 when neither is given).
+  std::optional<std::int64_t> steps;  ///< Number of fixed steps.
+  std::optional<double> dt;           ///< Overrides the scene's world.dt (s).
+  std::optional<int> threads;         ///< Overrides the scene's world.threads.
+  std::string record;                 ///< Body CSV (DESIGN.md section 6).
+  std::int64_t recordEvery = 1;       ///< Record every K-th step.
+  std::string stats;                  ///< JSON summary.
+  bool quiet = false;                 ///< No summary or progress on the terminal.
+};
+
+int runScene(const RunOptions& options);
+int validateScene(const std::string& scene);
+
+}  // namespace inertia::app

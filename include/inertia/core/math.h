@@ -1,0 +1,35 @@
+// Small helpers over the core types: skew matrices, quaternion integration, finiteness checks.
+#pragma once
+
+#include <cmath>
+
+#include "inertia/core/types.h"
+
+namespace inertia {
+
+/// The cross-product matrix: skew(a) * b == a.cross(b).
+Mat3 skew(const Vec3& a);
+
+/// Advances an orientation by angular velocity `w` (rad/s, world frame) over `h` seconds with
+/// the first-order update q' = q + h/2 (0, w) q, then renormalises (Baraff's SIGGRAPH notes,
+/// eq. for dq/dt = 1/2 w q). Cheap and what the rigid-body solvers use every substep.
+Quat integrateRotation(const Quat& q, const Vec3& w, Real h);
+
+/// Advances an orientation by the exact rotation of constant `w` over `h`: q' = exp(h w / 2) q.
+/// Exact for constant angular velocity; used where accuracy matters more than cost.
+Quat integrateRotationExact(const Quat& q, const Vec3& w, Real h);
+
+/// The rotation vector (axis * angle, rad) of a unit quaternion; inverse of quatFromRotationVector.
+Vec3 rotationVector(const Quat& q);
+/// The unit quaternion of a rotation by |v| radians about v.
+Quat quatFromRotationVector(const Vec3& v);
+
+/// True when every component is finite (no NaN, no infinity).
+template <class Derived>
+bool allFinite(const Eigen::MatrixBase<Derived>& m) {
+  return m.allFinite();
+}
+inline bool allFinite(const Quat& q) { return q.coeffs().allFinite(); }
+inline bool isFinite(Real x) { return std::isfinite(x); }
+
+}  // namespace inertia

@@ -1,0 +1,8 @@
+// Inertia: the whole public API in one include.
+#pragma once
+
+#include "inertia/core/error.h"
+#include "inertia/core/math.h"
+#include "inertia/core/types.h"
+#include "inertia/ode/ode.h"
+#include "inertia/world/world.h"

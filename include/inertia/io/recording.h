@@ -1,0 +1,44 @@
+// Recording simulation state as CSV (DESIGN.md section 6).
+#pragma once
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "inertia/core/types.h"
+
+namespace inertia::io {
+
+/// Formats a value with enough digits to round-trip: %.9g for float, %.17g for double.
+/// Appends to `out` without allocating once `out` has grown.
+void appendReal(std::string& out, Real x);
+
+/// Writes `time,body,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz` rows, one per body per recorded
+/// step. Output is buffered and byte-for-byte deterministic.
+class BodyRecorder {
+ public:
+  /// Opens `file` for writing and writes the header. Throws std::runtime_error naming the file
+  /// when it cannot be opened.
+  explicit BodyRecorder(const std::filesystem::path& file);
+  ~BodyRecorder();
+  BodyRecorder(const BodyRecorder&) = delete;
+  BodyRecorder& operator=(const BodyRecorder&) = delete;
+
+  static constexpr std::string_view kHeader =
+      "time,body,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz";
+
+  /// One row: `body` is the body's name (its index when unnamed); `v` (m/s) and `w` (rad/s) are
+  /// the linear velocity of the centre of mass and the angular velocity, in world coordinates.
+  void write(Real time, std::string_view body, const Transform& pose, const Vec3& v, const Vec3& w);
+
+  /// Flushes to disk; throws std::runtime_error when the write failed (disk full, ...).
+  void close();
+
+ private:
+  std::filesystem::path path_;
+  std::FILE* file_ = nullptr;
+  std::string line_;
+};
+
+}  // namespace inertia::io

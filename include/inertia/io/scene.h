@@ -1,0 +1,55 @@
+// Scene files (JSON, DESIGN.md section 4): loading with errors that name the file, the JSON
+// pointer and what is wrong.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "inertia/core/types.h"
+#include "inertia/world/world.h"
+
+namespace inertia::io {
+
+/// A problem with a scene file. what() reads "FILE: POINTER: REASON" (or "FILE:LINE:COL: REASON"
+/// for a syntax error), so that a user can find the offending value.
+class SceneError : public std::runtime_error {
+ public:
+  SceneError(std::string file, std::string pointer, std::string reason);
+  const std::string& file() const { return file_; }
+  /// The JSON pointer of the offending value (RFC 6901), e.g. "/world/dt"; empty for syntax errors.
+  const std::string& pointer() const { return pointer_; }
+  const std::string& reason() const { return reason_; }
+
+ private:
+  std::string file_, pointer_, reason_;
+};
+
+/// Where the viewer and renderer look from.
+struct Camera {
+  Vec3 position = Vec3(0, 5, 15);  ///< Eye (m).
+  Vec3 target = Vec3(0, 0, 0);     ///< Point looked at (m).
+  Real fov = 45;                   ///< Vertical field of view (degrees).
+};
+
+/// A scene as read from a file: plain data, checked, not yet simulated.
+struct Scene {
+  std::filesystem::path file;  ///< Where it was read from (for relative paths and messages).
+  WorldSettings world;
+  std::optional<Camera> camera;
+};
+
+/// Reads and checks a scene file. Throws SceneError on a missing file, bad JSON, an unknown
+/// key, a value of the wrong type or out of range.
+Scene loadScene(const std::filesystem::path& file);
+
+/// Parses scene text; `name` is used in error messages (and relative paths resolve against
+/// its directory).
+Scene parseScene(const std::string& text, const std::filesystem::path& name);
+
+/// Builds a world from a scene.
+std::unique_ptr<World> instantiate(const Scene& scene);
+
+}  // namespace inertia::io

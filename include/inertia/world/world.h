@@ -1,0 +1,99 @@
+// The World: owns every simulated system and steps them with a fixed time step.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "inertia/core/types.h"
+#include "inertia/ode/method.h"
+
+namespace inertia {
+
+/// The contact solver a world uses (DESIGN.md section 4, `"solver": {"type": ...}`).
+enum class SolverType { SoftStep, Pgs, LcpDantzig, LcpLemke };
+
+/// The scene-file name of a solver ("soft_step", "pgs", "lcp_dantzig", "lcp_lemke").
+std::string_view solverName(SolverType type);
+/// The solver of a scene-file name, or false when the name is unknown.
+bool solverFromName(std::string_view name, SolverType& out);
+/// The accepted solver names, comma separated, for error messages.
+std::string_view solverNames();
+
+struct SolverSettings {
+  SolverType type = SolverType::SoftStep;
+  int iterations = 8;  ///< Velocity iterations per substep (1..1000).
+};
+
+/// Settings of a world, filled with designated initialisers: World({.gravity = {0, -9.81f, 0}}).
+struct WorldSettings {
+  Vec3 gravity = Vec3(0, Real(-9.81), 0);  ///< Gravitational acceleration (m/s^2).
+  Real dt = Real(1.0 / 60.0);              ///< Fixed time step of advance() (s).
+  int substeps = 4;                        ///< Substeps per step (1..64).
+  SolverSettings solver{};
+  ode::Method integrator = ode::Method::SymplecticEuler;  ///< For unconstrained motion.
+  int threads = 0;        ///< Worker threads; 0 uses every core. Results do not depend on it.
+  bool sleeping = true;   ///< Let bodies at rest fall asleep.
+};
+
+/// Checks settings and throws InvalidArgument naming the first bad field.
+void validate(const WorldSettings& settings);
+
+/// Per-phase wall-clock seconds accumulated over all steps (broad phase, narrow phase, ...).
+struct PhaseTimes {
+  double broadPhase = 0;
+  double narrowPhase = 0;
+  double solver = 0;
+  double integration = 0;
+  double particles = 0;
+};
+
+/// A simulation world. Steps are deterministic: the same world stepped the same way gives the
+/// same bytes whatever the thread count.
+class World {
+ public:
+  explicit World(const WorldSettings& settings = {});
+  ~World();
+  World(World&&) noexcept;
+  World& operator=(World&&) noexcept;
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  const WorldSettings& settings() const { return settings_; }
+
+  /// Advances the world by exactly `dt` seconds (split into settings().substeps substeps).
+  /// Throws InvalidArgument when dt is not finite and positive.
+  void step(Real dt);
+
+  /// Advances by a frame of `frameTime` seconds using the fixed step settings().dt and an
+  /// accumulator (physics rate decoupled from the frame rate). At most `maxSteps` steps are taken
+  /// per call, so a long frame cannot make the simulation fall ever further behind; the time
+  /// that could not be simulated is dropped. Returns the number of steps taken.
+  int advance(Real frameTime, int maxSteps = 8);
+
+  /// After advance(): how far (0..1) the real time lies between the last two physics states,
+  /// for interpolated drawing.
+  Real interpolationAlpha() const { return Real(accumulator_ / double(settings_.dt)); }
+
+  /// Simulated time (s) and number of steps taken so far.
+  double time() const { return time_; }
+  std::int64_t stepCount() const { return steps_; }
+
+  /// Number of bodies and contacts (rigid bodies arrive with the dynamics layer).
+  int bodyCount() const { return 0; }
+  int contactCount() const { return 0; }
+
+  const PhaseTimes& phaseTimes() const { return phases_; }
+
+ private:
+  struct Threads;
+  WorldSettings settings_;
+  std::unique_ptr<Threads> threads_;
+  double time_ = 0;
+  double accumulator_ = 0;
+  std::int64_t steps_ = 0;
+  PhaseTimes phases_;
+};
+
+}  // namespace inertia

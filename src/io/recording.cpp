@@ -1,0 +1,51 @@
+#include "inertia/io/recording.h"
+
+#include <stdexcept>
+#include <type_traits>
+
+namespace inertia::io {
+
+void appendReal(std::string& out, Real x) {
+  constexpr const char* kFormat = std::is_same_v<Real, float> ? "%.9g" : "%.17g";
+  char buffer[32];
+  int n = std::snprintf(buffer, sizeof buffer, kFormat, double(x));
+  out.append(buffer, std::size_t(n));
+}
+
+BodyRecorder::BodyRecorder(const std::filesystem::path& file) : path_(file) {
+  file_ = std::fopen(file.c_str(), "wb");
+  if (!file_) throw std::runtime_error(file.string() + ": cannot be opened for writing");
+  std::fwrite(kHeader.data(), 1, kHeader.size(), file_);
+  std::fputc('\n', file_);
+}
+
+BodyRecorder::~BodyRecorder() {
+  if (file_) std::fclose(file_);
+}
+
+void BodyRecorder::write(Real time, std::string_view body, const Transform& pose, const Vec3& v,
+                         const Vec3& w) {
+  line_.clear();
+  appendReal(line_, time);
+  line_ += ',';
+  line_ += body;
+  const Real values[] = {pose.p.x(), pose.p.y(), pose.p.z(), pose.q.w(), pose.q.x(),
+                         pose.q.y(), pose.q.z(), v.x(),      v.y(),      v.z(),
+                         w.x(),      w.y(),      w.z()};
+  for (Real x : values) {
+    line_ += ',';
+    appendReal(line_, x);
+  }
+  line_ += '\n';
+  std::fwrite(line_.data(), 1, line_.size(), file_);
+}
+
+void BodyRecorder::close() {
+  if (!file_) return;
+  bool failed = std::ferror(file_) != 0;
+  failed |= std::fclose(file_) != 0;
+  file_ = nullptr;
+  if (failed) throw std::runtime_error(path_.string() + ": write failed");
+}
+
+}  // namespace inertia::io

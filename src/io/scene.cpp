@@ -1,0 +1,138 @@
+#include "inertia/io/scene.h"
+
+#include <fstream>
+#include <sstream>
+
+#include "json_reader.h"
+
+namespace inertia::io {
+
+using detail::Json;
+using detail::Node;
+
+SceneError::SceneError(std::string file, std::string pointer, std::string reason)
+    : std::runtime_error(file + ": " + (pointer.empty() ? std::string() : pointer + ": ") + reason),
+      file_(std::move(file)),
+      pointer_(std::move(pointer)),
+      reason_(std::move(reason)) {}
+
+namespace {
+
+std::string integratorNames() {
+  std::string list;
+  for (std::string_view name : ode::kMethodNames) list += (list.empty() ? "" : ", ") + std::string(name);
+  return list;
+}
+
+void readSolver(const Node& n, SolverSettings& s) {
+  n.requireObject({"type", "iterations"});
+  if (n.has("type")) {
+    Node t = n.at("type");
+    if (!solverFromName(t.string(), s.type))
+      t.fail("unknown solver \"" + t.string() + "\"; expected one of " + std::string(solverNames()));
+  }
+  if (n.has("iterations")) s.iterations = int(n.at("iterations").integer(1, 1000));
+}
+
+void readWorld(const Node& n, WorldSettings& w) {
+  n.requireObject({"gravity", "dt", "substeps", "solver", "integrator", "threads", "sleeping"});
+  if (n.has("gravity")) w.gravity = n.at("gravity").vec3();
+  if (n.has("dt")) w.dt = Real(n.at("dt").number(0, 1, /*openLo=*/true));
+  if (n.has("substeps")) w.substeps = int(n.at("substeps").integer(1, 64));
+  if (n.has("solver")) readSolver(n.at("solver"), w.solver);
+  if (n.has("integrator")) {
+    Node i = n.at("integrator");
+    auto method = ode::methodFromName(i.string());
+    if (!method) i.fail("unknown integrator \"" + i.string() + "\"; expected one of " + integratorNames());
+    w.integrator = *method;
+  }
+  if (n.has("threads")) w.threads = int(n.at("threads").integer(0, 1024));
+  if (n.has("sleeping")) w.sleeping = n.at("sleeping").boolean();
+}
+
+Camera readCamera(const Node& n) {
+  n.requireObject({"position", "target", "fov"});
+  Camera c;
+  if (n.has("position")) c.position = n.at("position").vec3();
+  if (n.has("target")) c.target = n.at("target").vec3();
+  if (n.has("fov")) c.fov = Real(n.at("fov").number(0, 180, /*openLo=*/true));
+  if ((c.position - c.target).norm() <= Real(1e-6)) n.fail("camera position and target coincide");
+  return c;
+}
+
+// Sections whose systems arrive with later layers: accepted when empty, so that the scene file
+// format is stable, and refused with a clear message when they hold anything.
+void requireEmpty(const Node& root, std::string_view key, bool isObject, const char* what) {
+  if (!root.has(key)) return;
+  Node n = root.at(key);
+  if (isObject) {
+    n.requireObject({});
+  } else if (n.requireArray() != 0) {
+    n.at(std::size_t(0)).fail(std::string(what) + " are not implemented yet in this version of Inertia");
+  }
+}
+
+}  // namespace
+
+Scene parseScene(const std::string& text, const std::filesystem::path& name) {
+  const std::string file = name.string();
+  // Syntax errors have no JSON pointer: name the line and column instead, which editors understand.
+  auto where = [&](std::size_t byte) {
+    std::size_t line = 1, column = 1;
+    for (std::size_t i = 0; i < byte && i < text.size(); ++i) {
+      if (text[i] == '\n') line++, column = 1;
+      else column++;
+    }
+    return file + ":" + std::to_string(line) + ":" + std::to_string(column);
+  };
+  Json root;
+  try {
+    root = Json::parse(text);
+  } catch (const Json::parse_error& e) {
+    std::string reason = e.what();
+    if (auto pos = reason.find("syntax error"); pos != std::string::npos) reason = reason.substr(pos);
+    throw SceneError(where(e.byte > 0 ? e.byte - 1 : 0), "", reason);
+  } catch (const Json::out_of_range& e) {
+    // A number too large for a double ("1e999"): the lexer names the token but not its place,
+    // so find the token in the text.
+    std::string reason = e.what();
+    if (auto pos = reason.find("number overflow"); pos != std::string::npos) reason = reason.substr(pos);
+    std::size_t byte = 0;
+    if (auto q = reason.find('\''); q != std::string::npos) {
+      std::string token = reason.substr(q + 1, reason.rfind('\'') - q - 1);
+      if (auto at = text.find(token); at != std::string::npos) byte = at;
+    }
+    throw SceneError(where(byte), "", reason + " (not a finite number)");
+  }
+
+  Scene scene;
+  scene.file = name;
+  Node n(root, detail::Pointer(), file);
+  n.requireObject({"world", "camera", "materials", "bodies", "joints", "particle_systems",
+                   "deformables"});
+  if (n.has("world")) readWorld(n.at("world"), scene.world);
+  if (n.has("camera")) scene.camera = readCamera(n.at("camera"));
+  requireEmpty(n, "materials", true, "materials");
+  requireEmpty(n, "bodies", false, "rigid bodies");
+  requireEmpty(n, "joints", false, "joints");
+  requireEmpty(n, "particle_systems", false, "particle systems");
+  requireEmpty(n, "deformables", false, "deformables");
+  return scene;
+}
+
+Scene loadScene(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec)) throw SceneError(file.string(), "", "no such file");
+  if (std::filesystem::is_directory(file, ec)) throw SceneError(file.string(), "", "is a directory, not a scene file");
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw SceneError(file.string(), "", "cannot be opened for reading");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parseScene(text.str(), file);
+}
+
+std::unique_ptr<World> instantiate(const Scene& scene) {
+  return std::make_unique<World>(scene.world);
+}
+
+}  // namespace inertia::io

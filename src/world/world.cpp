@@ -1,0 +1,90 @@
+#include "inertia/world/world.h"
+
+#include <array>
+#include <cmath>
+
+#include <tbb/task_arena.h>
+
+#include "inertia/core/error.h"
+
+namespace inertia {
+
+namespace {
+struct SolverEntry {
+  SolverType type;
+  std::string_view name;
+};
+constexpr std::array<SolverEntry, 4> kSolvers{{{SolverType::SoftStep, "soft_step"},
+                                               {SolverType::Pgs, "pgs"},
+                                               {SolverType::LcpDantzig, "lcp_dantzig"},
+                                               {SolverType::LcpLemke, "lcp_lemke"}}};
+}  // namespace
+
+std::string_view solverName(SolverType type) {
+  for (const auto& s : kSolvers)
+    if (s.type == type) return s.name;
+  return "unknown";
+}
+
+bool solverFromName(std::string_view name, SolverType& out) {
+  for (const auto& s : kSolvers)
+    if (s.name == name) {
+      out = s.type;
+      return true;
+    }
+  return false;
+}
+
+std::string_view solverNames() { return "soft_step, pgs, lcp_dantzig, lcp_lemke"; }
+
+void validate(const WorldSettings& s) {
+  require(s.gravity.allFinite(), "WorldSettings::gravity must be finite");
+  require(std::isfinite(s.dt) && s.dt > 0, "WorldSettings::dt must be finite and > 0 (s)");
+  require(s.substeps >= 1 && s.substeps <= 64, "WorldSettings::substeps must be in 1..64");
+  require(s.solver.iterations >= 1 && s.solver.iterations <= 1000,
+          "WorldSettings::solver.iterations must be in 1..1000");
+  require(s.threads >= 0 && s.threads <= 1024, "WorldSettings::threads must be in 0..1024");
+}
+
+// The worker threads of a world: a TBB arena limited to the requested count, so that a world
+// never takes more cores than it was given and results can be checked across thread counts.
+struct World::Threads {
+  tbb::task_arena arena;
+  explicit Threads(int n) : arena(n > 0 ? n : tbb::task_arena::automatic) {}
+};
+
+World::World(const WorldSettings& settings) : settings_(settings) {
+  validate(settings_);
+  threads_ = std::make_unique<Threads>(settings_.threads);
+}
+
+World::~World() = default;
+World::World(World&&) noexcept = default;
+World& World::operator=(World&&) noexcept = default;
+
+void World::step(Real dt) {
+  require(std::isfinite(dt) && dt > 0, "World::step: dt must be finite and > 0 (s)");
+  // The systems stepped here (rigid bodies, particles, deformables) arrive with their layers;
+  // each substep will run broad phase, narrow phase, solver and integration in that order.
+  time_ += double(dt);
+  ++steps_;
+}
+
+int World::advance(Real frameTime, int maxSteps) {
+  require(std::isfinite(frameTime) && frameTime >= 0,
+          "World::advance: frameTime must be finite and >= 0 (s)");
+  require(maxSteps >= 1, "World::advance: maxSteps must be >= 1");
+  accumulator_ += double(frameTime);
+  const double h = double(settings_.dt);
+  int taken = 0;
+  while (accumulator_ >= h && taken < maxSteps) {
+    step(settings_.dt);
+    accumulator_ -= h;
+    ++taken;
+  }
+  // Drop what could not be simulated rather than fall ever further behind.
+  if (accumulator_ >= h) accumulator_ = std::fmod(accumulator_, h);
+  return taken;
+}
+
+}  // namespace inertia

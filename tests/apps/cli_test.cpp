@@ -1,0 +1,144 @@
+// The inertia command end to end: exit codes 0 / 2 and messages that name what is wrong.
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+Result run(const std::string& args) {
+  std::string command = std::string(INERTIA_CLI) + " " + args + " 2>&1";
+  Result r;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return r;
+  char buffer[4096];
+  std::size_t n;
+  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
+  int status = pclose(pipe);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return r;
+}
+
+class Cli : public testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("inertia_cli_" + std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string write(const std::string& name, const std::string& text) {
+    fs::path p = dir_ / name;
+    std::ofstream(p) << text;
+    return p.string();
+  }
+  std::string read(const std::string& name) {
+    std::ifstream in(dir_ / name);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
+  std::string path(const std::string& name) { return (dir_ / name).string(); }
+
+  fs::path dir_;
+};
+
+const char* kGood = R"({"world": {"dt": 0.01, "substeps": 2}})";
+
+}  // namespace
+
+TEST_F(Cli, ValidateAcceptsAGoodScene) {
+  Result r = run("validate " + write("good.json", kGood));
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("ok"), std::string::npos) << r.output;
+}
+
+TEST_F(Cli, MalformedJsonIsBadInputWithLineAndColumn) {
+  std::string file = write("bad.json", "{\n  \"world\": {\"dt\": 0.01,}\n}");
+  for (const char* cmd : {"validate ", "run "}) {
+    Result r = run(cmd + file);
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find(file + ":2:"), std::string::npos) << r.output;
+  }
+}
+
+TEST_F(Cli, UnknownKeyNamesItsPointer) {
+  Result r = run("run " + write("typo.json", R"({"world": {"gravty": [0, -9.81, 0]}})"));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("/world/gravty"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("did you mean \"gravity\""), std::string::npos) << r.output;
+}
+
+TEST_F(Cli, NaNIsBadInput) {
+  Result r = run("run " + write("nan.json", R"({"world": {"dt": NaN}})"));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("nan.json:1:"), std::string::npos) << r.output;
+  Result overflow = run("run " + write("inf.json", R"({"world": {"gravity": [0, -1e400, 0]}})"));
+  EXPECT_EQ(overflow.code, 2) << overflow.output;
+  EXPECT_NE(overflow.output.find("inf.json:1:"), std::string::npos) << overflow.output;
+}
+
+TEST_F(Cli, NegativeDtInSceneNamesItsPointer) {
+  Result r = run("run " + write("neg.json", R"({"world": {"dt": -0.01}})"));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("/world/dt"), std::string::npos) << r.output;
+}
+
+TEST_F(Cli, BadArgumentsNameTheArgument) {
+  std::string file = write("good.json", kGood);
+  for (const char* arg : {"--dt -1", "--dt nan", "--dt 0", "--duration inf", "--threads -2",
+                          "--steps 0", "--record-every 0"}) {
+    Result r = run("run " + file + " " + arg);
+    EXPECT_EQ(r.code, 2) << arg << ": " << r.output;
+    std::string option(arg, std::string(arg).find(' '));
+    EXPECT_NE(r.output.find(option), std::string::npos) << arg << ": " << r.output;
+  }
+  Result both = run("run " + file + " --steps 3 --duration 1");
+  EXPECT_EQ(both.code, 2) << both.output;
+  Result none = run("");
+  EXPECT_EQ(none.code, 2) << none.output;
+}
+
+TEST_F(Cli, MissingFileIsNamed) {
+  Result r = run("run " + path("absent.json"));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("absent.json: no such file"), std::string::npos) << r.output;
+}
+
+TEST_F(Cli, UnwritableOutputIsBadInput) {
+  Result r = run("run " + write("good.json", kGood) + " --steps 1 --record " + path("no/such/dir.csv"));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("--record"), std::string::npos) << r.output;
+}
+
+TEST_F(Cli, RunWritesStatsAndRecording) {
+  std::string file = write("good.json", kGood);
+  Result r = run("run " + file + " --duration 1 --stats " + path("stats.json") + " --record " +
+                 path("rec.csv"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  nlohmann::json stats = nlohmann::json::parse(read("stats.json"));
+  // 1 s at dt = 0.01 s is exactly 100 steps.
+  EXPECT_EQ(stats["steps"], 100);
+  EXPECT_NEAR(stats["sim_time"].get<double>(), 1.0, 1e-6);
+  for (const char* key : {"wall_time", "bodies", "contacts", "phases", "particle_systems"})
+    EXPECT_TRUE(stats.contains(key)) << key;
+  EXPECT_EQ(read("rec.csv"), "time,body,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n");
+
+  Result dt = run("run " + file + " --duration 1 --dt 0.05 --stats " + path("stats2.json"));
+  ASSERT_EQ(dt.code, 0) << dt.output;
+  EXPECT_EQ(nlohmann::json::parse(read("stats2.json"))["steps"], 20);
+}

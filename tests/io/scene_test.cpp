@@ -1,0 +1,138 @@
+#include "inertia/io/scene.h"
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+using namespace inertia;
+using inertia::io::parseScene;
+using inertia::io::SceneError;
+
+namespace {
+
+// Parses `text` expecting an error; returns it.
+SceneError errorOf(const std::string& text) {
+  try {
+    parseScene(text, "test.json");
+  } catch (const SceneError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no error for: " << text;
+  return SceneError("", "", "");
+}
+
+}  // namespace
+
+TEST(Scene, DefaultsWhenWorldIsAbsent) {
+  io::Scene s = parseScene("{}", "empty.json");
+  EXPECT_EQ(s.world.gravity, Vec3(0, Real(-9.81), 0));
+  EXPECT_EQ(s.world.substeps, 4);
+  EXPECT_EQ(s.world.solver.type, SolverType::SoftStep);
+  EXPECT_EQ(s.world.integrator, ode::Method::SymplecticEuler);
+  EXPECT_FALSE(s.camera.has_value());
+}
+
+TEST(Scene, ReadsEveryWorldKey) {
+  io::Scene s = parseScene(R"({
+    "world": { "gravity": [0, 0, -3.5], "dt": 0.01, "substeps": 2,
+               "solver": { "type": "pgs", "iterations": 20 },
+               "integrator": "rk4", "threads": 2, "sleeping": false },
+    "camera": { "position": [1, 2, 3], "target": [0, 1, 0], "fov": 60 },
+    "materials": {}, "bodies": [], "joints": [], "particle_systems": [], "deformables": []
+  })", "full.json");
+  EXPECT_EQ(s.world.gravity, Vec3(0, 0, Real(-3.5)));
+  EXPECT_EQ(s.world.dt, Real(0.01));
+  EXPECT_EQ(s.world.substeps, 2);
+  EXPECT_EQ(s.world.solver.type, SolverType::Pgs);
+  EXPECT_EQ(s.world.solver.iterations, 20);
+  EXPECT_EQ(s.world.integrator, ode::Method::Rk4);
+  EXPECT_EQ(s.world.threads, 2);
+  EXPECT_FALSE(s.world.sleeping);
+  ASSERT_TRUE(s.camera.has_value());
+  EXPECT_EQ(s.camera->fov, Real(60));
+}
+
+TEST(Scene, EveryIntegratorNameIsAccepted) {
+  for (std::string_view name : ode::kMethodNames) {
+    io::Scene s = parseScene(R"({"world": {"integrator": ")" + std::string(name) + R"("}})", "i.json");
+    EXPECT_EQ(ode::methodName(s.world.integrator), name);
+  }
+}
+
+struct BadCase {
+  const char* text;
+  const char* pointer;  // expected JSON pointer
+  const char* words;    // expected in the reason
+};
+
+class BadScene : public testing::TestWithParam<BadCase> {};
+
+TEST_P(BadScene, NamesThePointerAndTheReason) {
+  const BadCase& c = GetParam();
+  SceneError e = errorOf(c.text);
+  EXPECT_EQ(e.pointer(), c.pointer) << e.what();
+  EXPECT_NE(e.reason().find(c.words), std::string::npos) << e.what();
+  EXPECT_NE(std::string(e.what()).find("test.json"), std::string::npos) << e.what();
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, BadScene,
+    testing::Values(
+        BadCase{R"({"wrold": {}})", "/wrold", "did you mean \"world\""},
+        BadCase{R"({"world": {"dt": -0.01}})", "/world/dt", "out of range"},
+        BadCase{R"({"world": {"dt": 0}})", "/world/dt", "out of range"},
+        BadCase{R"({"world": {"dt": "fast"}})", "/world/dt", "expected a number, got a string"},
+        BadCase{R"({"world": {"gravity": [0, -9.81]}})", "/world/gravity", "3 numbers"},
+        BadCase{R"({"world": {"gravity": [0, null, 0]}})", "/world/gravity/1", "expected a number"},
+        BadCase{R"({"world": {"substeps": 2.5}})", "/world/substeps", "integer"},
+        BadCase{R"({"world": {"substeps": 0}})", "/world/substeps", "out of range"},
+        BadCase{R"({"world": {"threads": 18446744073709551615}})", "/world/threads", "out of range"},
+        BadCase{R"({"world": {"solver": {"type": "magic"}}})", "/world/solver/type", "unknown solver"},
+        BadCase{R"({"world": {"solver": {"iters": 3}}})", "/world/solver/iters", "unknown key"},
+        BadCase{R"({"world": {"integrator": "euler"}})", "/world/integrator", "explicit_euler"},
+        BadCase{R"({"world": {"sleeping": 1}})", "/world/sleeping", "true or false"},
+        BadCase{R"({"world": []})", "/world", "expected an object, got an array"},
+        BadCase{R"({"camera": {"position": [1, 1, 1], "target": [1, 1, 1]}})", "/camera", "coincide"},
+        BadCase{R"({"camera": {"fov": 180.5}})", "/camera/fov", "out of range"},
+        BadCase{R"({"bodies": {}})", "/bodies", "expected an array"},
+        BadCase{R"({"bodies": [{"name": "ball"}]})", "/bodies/0", "not implemented yet"},
+        BadCase{R"({"world": {"a/b~c": 1}})", "/world/a~1b~0c", "unknown key"},
+        BadCase{R"([1, 2])", "", "expected an object"}));
+
+TEST(Scene, SyntaxErrorsGiveLineAndColumn) {
+  SceneError e = errorOf("{\n  \"world\": {\n    \"dt\": NaN\n  }\n}");
+  EXPECT_EQ(e.pointer(), "");
+  // The bad token starts on line 3, column 11.
+  EXPECT_EQ(e.file(), "test.json:3:11") << e.what();
+  EXPECT_NE(e.reason().find("syntax error"), std::string::npos) << e.what();
+}
+
+TEST(Scene, NumberOverflowGivesLineAndColumn) {
+  SceneError e = errorOf("{\"world\": {\n \"dt\": 1e999}}");
+  EXPECT_EQ(e.file(), "test.json:2:8") << e.what();
+  EXPECT_NE(e.reason().find("not a finite number"), std::string::npos) << e.what();
+}
+
+TEST(Scene, MissingFileIsNamed) {
+  try {
+    io::loadScene("/nonexistent/scene.json");
+    FAIL();
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.file(), "/nonexistent/scene.json");
+    EXPECT_NE(e.reason().find("no such file"), std::string::npos);
+  }
+}
+
+TEST(Scene, ShippedScenesLoad) {
+  const char* root = std::getenv("INERTIA_SOURCE_DIR");
+  ASSERT_NE(root, nullptr);
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(root) / "scenes")) {
+    if (entry.path().extension() != ".json") continue;
+    EXPECT_NO_THROW(io::instantiate(io::loadScene(entry.path()))) << entry.path();
+    ++count;
+  }
+  EXPECT_GE(count, 1);
+}
