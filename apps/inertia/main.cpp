@@ -48,6 +48,7 @@ int main(int argc, char** argv) {
   runCmd->add_option("--record", run.record, "Write body states as CSV");
   runCmd->add_option("--record-every", run.recordEvery, "Record every K-th step")
       ->check(CLI::Range(std::int64_t(1), std::int64_t(1) << 40));
+  runCmd->add_option("--record-particles", run.recordParticles, "Write particle states as CSV");
   runCmd->add_option("--stats", run.stats, "Write a JSON summary");
   runCmd->add_flag("--quiet,-q", run.quiet, "Print nothing but errors");
 

@@ -44,6 +44,20 @@ class Progress {
   Clock::time_point last_ = Clock::now();
 };
 
+nlohmann::json particleStats(const World& world) {
+  nlohmann::json list = nlohmann::json::array();
+  for (ParticleSystemId id : world.particleSystems()) {
+    const ParticleSystem& ps = world.particleSystem(id);
+    const ParticleStats s = ps.stats();
+    list.push_back({{"name", ps.name()},
+                    {"alive", s.alive},
+                    {"emitted", s.emitted},
+                    {"died", s.died},
+                    {"dropped", s.dropped}});
+  }
+  return list;
+}
+
 nlohmann::json statsJson(const World& world, double wallTime) {
   const PhaseTimes& p = world.phaseTimes();
   return {
@@ -58,7 +72,7 @@ nlohmann::json statsJson(const World& world, double wallTime) {
         {"solver", p.solver},
         {"integration", p.integration},
         {"particles", p.particles}}},
-      {"particle_systems", nlohmann::json::array()},
+      {"particle_systems", particleStats(world)},
   };
 }
 
@@ -106,24 +120,42 @@ int runScene(const RunOptions& o) {
   }
 
   std::unique_ptr<io::BodyRecorder> recorder;
+  std::unique_ptr<io::ParticleRecorder> particleRecorder;
   try {
     if (!o.record.empty()) recorder = std::make_unique<io::BodyRecorder>(o.record);
   } catch (const std::runtime_error& e) {
     std::fprintf(stderr, "inertia: --record: %s\n", e.what());
     return kBadInput;
   }
-  // Rigid bodies arrive with the dynamics layer; until then a recording holds the header only.
+  try {
+    if (!o.recordParticles.empty())
+      particleRecorder = std::make_unique<io::ParticleRecorder>(o.recordParticles);
+  } catch (const std::runtime_error& e) {
+    std::fprintf(stderr, "inertia: --record-particles: %s\n", e.what());
+    return kBadInput;
+  }
+  // Rigid bodies arrive with the dynamics layer; until then a body recording holds the header.
+  auto record = [&] {
+    if (!particleRecorder) return;
+    for (ParticleSystemId id : world->particleSystems()) {
+      const ParticleSystem& ps = world->particleSystem(id);
+      particleRecorder->write(Real(world->time()), ps.name(), ps.pool());
+    }
+  };
 
   Progress progress(!o.quiet, steps);
   double wall = 0;
+  record();  // the initial state at time 0
   for (std::int64_t i = 0; i < steps; ++i) {
     auto t0 = Clock::now();
     world->step(scene.world.dt);
     wall += seconds(Clock::now() - t0);
+    if ((i + 1) % o.recordEvery == 0) record();
     progress.update(i + 1);
   }
   progress.finish();
   if (recorder) recorder->close();
+  if (particleRecorder) particleRecorder->close();
 
   if (!o.stats.empty()) {
     std::ofstream out(o.stats);
@@ -137,6 +169,12 @@ int runScene(const RunOptions& o) {
     std::printf("%s: %lld steps, %.4g s simulated in %.4g s of stepping; %d bodies, %d contacts\n",
                 o.scene.c_str(), (long long)world->stepCount(), world->time(), wall,
                 world->bodyCount(), world->contactCount());
+    for (ParticleSystemId id : world->particleSystems()) {
+      const ParticleSystem& ps = world->particleSystem(id);
+      const ParticleStats s = ps.stats();
+      std::printf("  particles \"%s\": %lld alive, %lld emitted, %lld died\n", ps.name().c_str(),
+                  (long long)s.alive, (long long)s.emitted, (long long)s.died);
+    }
   }
   return kOk;
 }

@@ -19,6 +19,7 @@ struct RunOptions {
   std::string record;                 ///< Body CSV (DESIGN.md section 6).
   std::int64_t recordEvery = 1;       ///< Record every K-th step.
   std::string stats;                  ///< JSON summary.
+  std::string recordParticles;        ///< Particle CSV (DESIGN.md section 6).
   bool quiet = false;                 ///< No summary or progress on the terminal.
 };
 

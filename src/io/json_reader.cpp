@@ -52,7 +52,7 @@ void Node::fail(const std::string& reason) const {
   throw SceneError(*file_, pointer_.to_string(), reason);
 }
 
-void Node::requireObject(std::initializer_list<std::string_view> allowed) const {
+void Node::requireObject(std::span<const std::string_view> allowed) const {
   if (!value_->is_object()) fail("expected an object, got " + typeName(*value_));
   for (const auto& item : value_->items()) {
     const std::string& key = item.key();

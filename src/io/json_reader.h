@@ -3,6 +3,7 @@
 #pragma once
 
 #include <initializer_list>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -29,7 +30,10 @@ class Node {
 
   // Objects.
   /// Fails unless this is an object whose keys are all in `allowed` (naming the first stranger).
-  void requireObject(std::initializer_list<std::string_view> allowed) const;
+  void requireObject(std::span<const std::string_view> allowed) const;
+  void requireObject(std::initializer_list<std::string_view> allowed) const {
+    requireObject(std::span<const std::string_view>(allowed.begin(), allowed.size()));
+  }
   bool has(std::string_view key) const;
   /// The member `key`; fails if it is missing.
   Node at(std::string_view key) const;

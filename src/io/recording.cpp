@@ -48,4 +48,44 @@ void BodyRecorder::close() {
   if (failed) throw std::runtime_error(path_.string() + ": write failed");
 }
 
+ParticleRecorder::ParticleRecorder(const std::filesystem::path& file) : path_(file) {
+  file_ = std::fopen(file.c_str(), "wb");
+  if (!file_) throw std::runtime_error(file.string() + ": cannot be opened for writing");
+  std::fwrite(kHeader.data(), 1, kHeader.size(), file_);
+  std::fputc('\n', file_);
+}
+
+ParticleRecorder::~ParticleRecorder() {
+  if (file_) std::fclose(file_);
+}
+
+void ParticleRecorder::write(Real time, std::string_view system, const ParticlePool& pool) {
+  const auto x = pool.positions();
+  const auto v = pool.velocities();
+  const auto ids = pool.ids();
+  const auto age = pool.ages();
+  for (std::size_t i = 0; i < pool.size(); ++i) {
+    buffer_.clear();
+    appendReal(buffer_, time);
+    buffer_ += ',';
+    buffer_ += system;
+    buffer_ += ',';
+    buffer_ += std::to_string(ids[i]);
+    for (int k = 0; k < 3; ++k) (buffer_ += ','), appendReal(buffer_, x[3 * i + k]);
+    for (int k = 0; k < 3; ++k) (buffer_ += ','), appendReal(buffer_, v[3 * i + k]);
+    buffer_ += ',';
+    appendReal(buffer_, age[i]);
+    buffer_ += '\n';
+    std::fwrite(buffer_.data(), 1, buffer_.size(), file_);
+  }
+}
+
+void ParticleRecorder::close() {
+  if (!file_) return;
+  bool failed = std::ferror(file_) != 0;
+  failed |= std::fclose(file_) != 0;
+  file_ = nullptr;
+  if (failed) throw std::runtime_error(path_.string() + ": write failed");
+}
+
 }  // namespace inertia::io

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "json_reader.h"
+#include "particles_section.h"
 
 namespace inertia::io {
 
@@ -115,7 +116,11 @@ Scene parseScene(const std::string& text, const std::filesystem::path& name) {
   requireEmpty(n, "materials", true, "materials");
   requireEmpty(n, "bodies", false, "rigid bodies");
   requireEmpty(n, "joints", false, "joints");
-  requireEmpty(n, "particle_systems", false, "particle systems");
+  if (n.has("particle_systems")) {
+    Node list = n.at("particle_systems");
+    for (std::size_t i = 0; i < list.requireArray(); ++i)
+      scene.particleSystems.push_back(detail::readParticleSystem(list.at(i), i));
+  }
   requireEmpty(n, "deformables", false, "deformables");
   return scene;
 }
@@ -132,7 +137,14 @@ Scene loadScene(const std::filesystem::path& file) {
 }
 
 std::unique_ptr<World> instantiate(const Scene& scene) {
-  return std::make_unique<World>(scene.world);
+  auto world = std::make_unique<World>(scene.world);
+  for (const ParticleSystemDesc& d : scene.particleSystems) {
+    ParticleSystem& ps = world->particleSystem(world->createParticleSystem(d.settings));
+    for (const EmitterSettings& e : d.emitters) ps.addEmitter(e);
+    for (const ForceField& f : d.fields) ps.addField(f);
+    for (const Obstacle& o : d.obstacles) ps.addObstacle(o);
+  }
+  return world;
 }
 
 }  // namespace inertia::io

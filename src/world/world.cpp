@@ -1,7 +1,9 @@
 #include "inertia/world/world.h"
 
 #include <array>
+#include <chrono>
 #include <cmath>
+#include <string>
 
 #include <tbb/task_arena.h>
 
@@ -64,10 +66,56 @@ World& World::operator=(World&&) noexcept = default;
 
 void World::step(Real dt) {
   require(std::isfinite(dt) && dt > 0, "World::step: dt must be finite and > 0 (s)");
-  // The systems stepped here (rigid bodies, particles, deformables) arrive with their layers;
-  // each substep will run broad phase, narrow phase, solver and integration in that order.
+  using Clock = std::chrono::steady_clock;
+  // Rigid bodies (broad phase, narrow phase, solver and integration per substep) arrive with
+  // the dynamics layer. Particle systems take one step of dt each, in creation order.
+  const auto t0 = Clock::now();
+  for (ParticleSlot& slot : particleSlots_)
+    if (slot.system) slot.system->step(dt, &threads_->arena);
+  phases_.particles += std::chrono::duration<double>(Clock::now() - t0).count();
   time_ += double(dt);
   ++steps_;
+}
+
+ParticleSystemId World::createParticleSystem(const ParticleSystemSettings& settings) {
+  auto system = std::make_unique<ParticleSystem>(settings);
+  for (std::uint32_t i = 0; i < particleSlots_.size(); ++i) {
+    if (!particleSlots_[i].system) {
+      particleSlots_[i].system = std::move(system);
+      return {i, particleSlots_[i].generation};
+    }
+  }
+  particleSlots_.push_back({std::move(system), 1});
+  return {std::uint32_t(particleSlots_.size() - 1), 1};
+}
+
+bool World::isValid(ParticleSystemId id) const {
+  return !id.isNull() && id.index < particleSlots_.size() &&
+         particleSlots_[id.index].generation == id.generation && particleSlots_[id.index].system;
+}
+
+void World::destroyParticleSystem(ParticleSystemId id) {
+  require(isValid(id), "World::destroyParticleSystem: invalid particle system id");
+  ParticleSlot& slot = particleSlots_[id.index];
+  slot.system.reset();
+  ++slot.generation;  // stale ids stop matching
+}
+
+ParticleSystem& World::particleSystem(ParticleSystemId id) {
+  require(isValid(id), "World::particleSystem: invalid particle system id (index " +
+                           std::to_string(id.index) + ")");
+  return *particleSlots_[id.index].system;
+}
+
+const ParticleSystem& World::particleSystem(ParticleSystemId id) const {
+  return const_cast<World*>(this)->particleSystem(id);
+}
+
+std::vector<ParticleSystemId> World::particleSystems() const {
+  std::vector<ParticleSystemId> ids;
+  for (std::uint32_t i = 0; i < particleSlots_.size(); ++i)
+    if (particleSlots_[i].system) ids.push_back({i, particleSlots_[i].generation});
+  return ids;
 }
 
 int World::advance(Real frameTime, int maxSteps) {

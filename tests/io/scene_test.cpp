@@ -1,5 +1,6 @@
 #include "inertia/io/scene.h"
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -99,7 +100,63 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{R"({"bodies": {}})", "/bodies", "expected an array"},
         BadCase{R"({"bodies": [{"name": "ball"}]})", "/bodies/0", "not implemented yet"},
         BadCase{R"({"world": {"a/b~c": 1}})", "/world/a~1b~0c", "unknown key"},
-        BadCase{R"([1, 2])", "", "expected an object"}));
+        BadCase{R"([1, 2])", "", "expected an object"},
+        BadCase{R"({"particle_systems": [{"capacity": 0}]})", "/particle_systems/0/capacity", "out of range"},
+        BadCase{R"({"particle_systems": [{"emitters": [{"type": "point", "rate": -5}]}]})",
+                "/particle_systems/0/emitters/0/rate", "out of range"},
+        BadCase{R"({"particle_systems": [{"emitters": [{"type": "fountain"}]}]})",
+                "/particle_systems/0/emitters/0/type", "unknown emitter type"},
+        BadCase{R"({"particle_systems": [{"emitters": [{"type": "point", "speed": [5, 1]}]}]})",
+                "/particle_systems/0/emitters/0/speed", "exceeds"},
+        BadCase{R"({"particle_systems": [{"fields": [{"type": "magnetism"}]}]})",
+                "/particle_systems/0/fields/0/type", "unknown field type"},
+        BadCase{R"({"particle_systems": [{"fields": [{"type": "drag", "k": -1}]}]})",
+                "/particle_systems/0/fields/0/k", "out of range"},
+        BadCase{R"({"particle_systems": [{"fields": [{"type": "vortex", "angular_speed": 1, "axis": [0, 0, 0]}]}]})",
+                "/particle_systems/0/fields/0", "axis"},
+        BadCase{R"({"particle_systems": [{"obstacles": [{"type": "sphere", "radius": 0}]}]})",
+                "/particle_systems/0/obstacles/0/radius", "out of range"},
+        BadCase{R"({"particle_systems": [{"obstacles": [{"type": "box", "radius": 1}]}]})",
+                "/particle_systems/0/obstacles/0/radius", "unknown key"},
+        BadCase{R"({"particle_systems": [{"obstacles": [{"type": "hull", "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]}]}]})",
+                "/particle_systems/0/obstacles/0", "invalid hull"},
+        BadCase{R"({"particle_systems": [{"integrator": "leapfrog"}]})", "/particle_systems/0/integrator",
+                "unknown integrator"}));
+
+TEST(Scene, ReadsParticleSystems) {
+  io::Scene s = parseScene(R"({
+    "particle_systems": [ {
+      "name": "fountain", "capacity": 5000, "integrator": "rk4", "radius": 0.02,
+      "restitution": 0.3, "friction": 0.2, "particle_collisions": true,
+      "emitters": [ { "type": "cone", "position": [0, 1, 0], "angle": 0.2, "rate": 100,
+                      "burst": 10, "speed": [4, 6], "lifetime": "inf", "mass": 0.001,
+                      "color": [[1, 0, 0], [1, 1, 0]], "seed": 3 } ],
+      "fields": [ { "type": "gravity", "g": [0, -9.81, 0] }, { "type": "drag", "k": 0.1 },
+                  { "type": "vortex", "angular_speed": 2, "region": {"min": [-1, -1, -1], "max": [1, 1, 1]} },
+                  { "type": "attractor", "strength": 5, "falloff": "linear" },
+                  { "type": "turbulence", "amplitude": 1 }, { "type": "wind", "velocity": [1, 0, 0], "k": 0.5 },
+                  { "type": "quadratic_drag", "k": 0.01 } ],
+      "obstacles": [ { "type": "plane", "normal": [0, 1, 0], "offset": 0 },
+                     { "type": "sphere", "radius": 0.5, "position": [0, 2, 0] },
+                     { "type": "box", "half_extents": [1, 0.1, 1], "orientation": [1, 0, 0, 0] } ]
+    } ] })", "p.json");
+  ASSERT_EQ(s.particleSystems.size(), 1u);
+  const io::ParticleSystemDesc& d = s.particleSystems[0];
+  EXPECT_EQ(d.settings.name, "fountain");
+  EXPECT_EQ(d.settings.capacity, 5000u);
+  EXPECT_EQ(d.settings.integrator, ode::Method::Rk4);
+  EXPECT_TRUE(d.settings.particleCollisions);
+  ASSERT_EQ(d.emitters.size(), 1u);
+  EXPECT_EQ(d.emitters[0].shape, EmitterShape::Cone);
+  EXPECT_EQ(d.emitters[0].speed.min, 4);
+  EXPECT_TRUE(std::isinf(d.emitters[0].lifetime.max));
+  EXPECT_EQ(d.emitters[0].size.min, Real(0.02));  // the system's radius
+  EXPECT_EQ(d.fields.size(), 7u);
+  EXPECT_TRUE(d.fields[2].region.has_value());
+  EXPECT_EQ(d.obstacles.size(), 3u);
+  auto world = io::instantiate(s);
+  EXPECT_EQ(world->particleSystems().size(), 1u);
+}
 
 TEST(Scene, SyntaxErrorsGiveLineAndColumn) {
   SceneError e = errorOf("{\n  \"world\": {\n    \"dt\": NaN\n  }\n}");

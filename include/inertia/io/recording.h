@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "inertia/core/types.h"
+#include "inertia/particles/pool.h"
 
 namespace inertia::io {
 
@@ -39,6 +40,29 @@ class BodyRecorder {
   std::filesystem::path path_;
   std::FILE* file_ = nullptr;
   std::string line_;
+};
+
+/// Writes `time,system,id,px,py,pz,vx,vy,vz,age` rows, one per live particle per recorded
+/// step, in pool order (oldest first).
+class ParticleRecorder {
+ public:
+  /// Opens `file` and writes the header; throws std::runtime_error naming the file on failure.
+  explicit ParticleRecorder(const std::filesystem::path& file);
+  ~ParticleRecorder();
+  ParticleRecorder(const ParticleRecorder&) = delete;
+  ParticleRecorder& operator=(const ParticleRecorder&) = delete;
+
+  static constexpr std::string_view kHeader = "time,system,id,px,py,pz,vx,vy,vz,age";
+
+  /// Every live particle of `pool` at `time`; `system` is the system's name.
+  void write(Real time, std::string_view system, const ParticlePool& pool);
+  /// Flushes; throws std::runtime_error when the write failed.
+  void close();
+
+ private:
+  std::filesystem::path path_;
+  std::FILE* file_ = nullptr;
+  std::string buffer_;
 };
 
 }  // namespace inertia::io

@@ -7,8 +7,10 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "inertia/core/types.h"
+#include "inertia/particles/particle_system.h"
 #include "inertia/world/world.h"
 
 namespace inertia::io {
@@ -34,11 +36,20 @@ struct Camera {
   Real fov = 45;                   ///< Vertical field of view (degrees).
 };
 
+/// A particle system as described in a scene.
+struct ParticleSystemDesc {
+  ParticleSystemSettings settings;
+  std::vector<EmitterSettings> emitters;
+  std::vector<ForceField> fields;
+  std::vector<Obstacle> obstacles;
+};
+
 /// A scene as read from a file: plain data, checked, not yet simulated.
 struct Scene {
   std::filesystem::path file;  ///< Where it was read from (for relative paths and messages).
   WorldSettings world;
   std::optional<Camera> camera;
+  std::vector<ParticleSystemDesc> particleSystems;
 };
 
 /// Reads and checks a scene file. Throws SceneError on a missing file, bad JSON, an unknown

@@ -5,9 +5,12 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
+#include "inertia/core/id.h"
 #include "inertia/core/types.h"
 #include "inertia/ode/method.h"
+#include "inertia/particles/particle_system.h"
 
 namespace inertia {
 
@@ -84,12 +87,29 @@ class World {
   int bodyCount() const { return 0; }
   int contactCount() const { return 0; }
 
+  /// Adds a particle system (InvalidArgument for invalid settings); the world steps it once
+  /// per step with the step's dt.
+  ParticleSystemId createParticleSystem(const ParticleSystemSettings& settings);
+  /// Removes it; its id becomes invalid. Throws InvalidArgument for an invalid id.
+  void destroyParticleSystem(ParticleSystemId id);
+  bool isValid(ParticleSystemId id) const;
+  /// The system of a valid id (InvalidArgument otherwise).
+  ParticleSystem& particleSystem(ParticleSystemId id);
+  const ParticleSystem& particleSystem(ParticleSystemId id) const;
+  /// The ids of the live particle systems, in creation order.
+  std::vector<ParticleSystemId> particleSystems() const;
+
   const PhaseTimes& phaseTimes() const { return phases_; }
 
  private:
   struct Threads;
+  struct ParticleSlot {
+    std::unique_ptr<ParticleSystem> system;  // null when the slot is free
+    std::uint32_t generation = 1;
+  };
   WorldSettings settings_;
   std::unique_ptr<Threads> threads_;
+  std::vector<ParticleSlot> particleSlots_;
   double time_ = 0;
   double accumulator_ = 0;
   std::int64_t steps_ = 0;

@@ -1,0 +1,24 @@
+// Handles: small values {index, generation}; all-zero is null (Box2D, Jolt, Rapier).
+#pragma once
+
+#include <cstdint>
+
+namespace inertia {
+
+/// A handle to an object owned by a World. `generation` starts at 1, so a default-constructed
+/// id is null, and a handle to a removed object is detected (World::isValid) even after its
+/// slot is reused.
+template <class Tag>
+struct Id {
+  std::uint32_t index = 0;
+  std::uint32_t generation = 0;
+
+  bool isNull() const { return generation == 0; }
+  friend bool operator==(const Id&, const Id&) = default;
+};
+
+struct ParticleSystemTag;
+/// A particle system in a World.
+using ParticleSystemId = Id<ParticleSystemTag>;
+
+}  // namespace inertia

@@ -1,0 +1,12 @@
+// The "particle_systems" section of scene files (DESIGN.md section 4).
+#pragma once
+
+#include "inertia/io/scene.h"
+#include "json_reader.h"
+
+namespace inertia::io::detail {
+
+/// Reads one entry of "particle_systems"; `index` names it when it has no "name".
+ParticleSystemDesc readParticleSystem(const Node& n, std::size_t index);
+
+}  // namespace inertia::io::detail

@@ -1,0 +1,164 @@
+// Shared helpers for the collision tests: random poses, meshes, and double-precision oracles.
+#pragma once
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "inertia/collision/queries.h"
+#include "inertia/core/types.h"
+#include "inertia/geometry/geometry.h"
+
+namespace inertia::test {
+
+using Vec3d = Eigen::Vector3d;
+/// Machine epsilon of Real: float-build tolerances scale with it.
+constexpr double kEps = std::numeric_limits<Real>::epsilon();
+
+inline Quat randomRotation(std::mt19937_64& rng) {
+  std::normal_distribution<double> n;
+  return Quat(Real(n(rng)), Real(n(rng)), Real(n(rng)), Real(n(rng))).normalized();
+}
+inline Vec3 randomVec(std::mt19937_64& rng, double lo, double hi) {
+  std::uniform_real_distribution<double> u(lo, hi);
+  return Vec3(Real(u(rng)), Real(u(rng)), Real(u(rng)));
+}
+inline double uniform(std::mt19937_64& rng, double lo, double hi) {
+  return std::uniform_real_distribution<double>(lo, hi)(rng);
+}
+inline Transform randomPose(std::mt19937_64& rng, double spread = 2) {
+  return {randomVec(rng, -spread, spread), randomRotation(rng)};
+}
+inline Vec3d toD(const Vec3& v) { return v.cast<double>(); }
+/// World -> local in double, from the (Real) pose.
+inline Vec3d toLocal(const Transform& pose, const Vec3& x) {
+  return pose.q.cast<double>().conjugate() * (toD(x) - toD(pose.p));
+}
+inline Vec3d rotateD(const Transform& pose, const Vec3d& v) { return pose.q.cast<double>() * v; }
+
+/// A signed distance and its gradient (unit outward direction), double precision.
+struct Sdf {
+  double distance;
+  Vec3d gradient;
+};
+
+// Exact signed distances of the primitives in their local frames (Quilez' formulas), written
+// independently of the library, in double.
+inline Sdf sdf(const Sphere& s, const Vec3d& p) {
+  const double n = p.norm();
+  return {n - s.radius, n > 0 ? Vec3d(p / n) : Vec3d::UnitY()};
+}
+inline Sdf sdf(const Capsule& c, const Vec3d& p) {
+  const double h = c.halfHeight;
+  const Vec3d q(0, std::clamp(p.y(), -h, h), 0);
+  const double n = (p - q).norm();
+  return {n - c.radius, n > 0 ? Vec3d((p - q) / n) : Vec3d::UnitX()};
+}
+inline Sdf sdf(const Box& b, const Vec3d& p) {
+  const Vec3d h = toD(b.halfExtents);
+  const Vec3d e = p.cwiseAbs() - h;
+  const Vec3d sign(p.x() >= 0 ? 1 : -1, p.y() >= 0 ? 1 : -1, p.z() >= 0 ? 1 : -1);
+  const Vec3d out = e.cwiseMax(0.0);
+  if (out.squaredNorm() > 0) {
+    const double n = out.norm();
+    return {n, out.cwiseProduct(sign) / n};
+  }
+  int axis = 0;
+  for (int i = 1; i < 3; ++i)
+    if (e[i] > e[axis]) axis = i;
+  Vec3d g = Vec3d::Zero();
+  g[axis] = sign[axis];
+  return {e[axis], g};
+}
+inline Sdf sdf(const Cylinder& c, const Vec3d& p) {
+  const double rho = std::hypot(p.x(), p.z());
+  const Vec3d u = rho > 0 ? Vec3d(p.x() / rho, 0, p.z() / rho) : Vec3d::UnitX();
+  const double er = rho - c.radius, ey = std::abs(p.y()) - c.halfHeight;
+  const Vec3d up(0, p.y() >= 0 ? 1 : -1, 0);
+  if (er > 0 || ey > 0) {
+    const double a = std::max(er, 0.0), b = std::max(ey, 0.0);
+    const double n = std::hypot(a, b);
+    return {n, (a * u + b * up) / n};
+  }
+  return er > ey ? Sdf{er, u} : Sdf{ey, up};
+}
+
+/// The first entry of the ray into the solid by sphere tracing the exact SDF in double
+/// (Hart 1996): -1 for a miss, -2 when the origin is inside, -3 when tracing did not settle
+/// (grazing rays creep along the surface; such rays are skipped by the callers).
+template <class S>
+double traceRay(const S& shape, const Vec3d& o, const Vec3d& d, double maxFraction) {
+  const double len = d.norm();
+  double t = 0;
+  if (sdf(shape, o).distance < 0) return -2;
+  for (int it = 0; it < 100000; ++it) {
+    const double dist = sdf(shape, o + t * d).distance;
+    if (dist < 1e-13) return t;
+    t += dist / len;
+    if (t > maxFraction) return -1;
+  }
+  return -3;
+}
+
+/// The closed mesh of a box: 8 corners, 12 triangles, counter-clockwise from outside.
+inline TriangleMesh boxMesh(const Vec3& h) {
+  std::vector<Vec3> v;
+  for (int i = 0; i < 8; ++i)
+    v.emplace_back((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z());
+  // Each face as a quad (a, b, c, d) counter-clockwise seen from outside.
+  const int quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                           {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  std::vector<Triangle> t;
+  for (const auto& q : quads) {
+    t.push_back({std::uint32_t(q[0]), std::uint32_t(q[1]), std::uint32_t(q[2])});
+    t.push_back({std::uint32_t(q[0]), std::uint32_t(q[2]), std::uint32_t(q[3])});
+  }
+  return TriangleMesh(std::move(v), std::move(t));
+}
+
+/// A closed UV sphere of radius r (outward normals): a closed mesh that is not convex-trivial.
+inline TriangleMesh sphereMesh(double r, int stacks, int slices, double wobble = 0,
+                               std::uint64_t seed = 1) {
+  std::mt19937_64 rng(seed);
+  std::vector<Vec3> v;
+  v.emplace_back(0, Real(r), 0);
+  for (int i = 1; i < stacks; ++i) {
+    const double th = M_PI * i / stacks;
+    for (int j = 0; j < slices; ++j) {
+      const double ph = 2 * M_PI * j / slices;
+      const double rr = r * (1 + wobble * uniform(rng, -1, 1));
+      v.emplace_back(Real(rr * std::sin(th) * std::cos(ph)), Real(rr * std::cos(th)),
+                     Real(rr * std::sin(th) * std::sin(ph)));
+    }
+  }
+  v.emplace_back(0, Real(-r), 0);
+  const auto idx = [&](int i, int j) { return std::uint32_t(1 + (i - 1) * slices + (j % slices)); };
+  const std::uint32_t bottom = std::uint32_t(v.size() - 1);
+  std::vector<Triangle> t;
+  for (int j = 0; j < slices; ++j) t.push_back({0, idx(1, j + 1), idx(1, j)});
+  for (int i = 1; i < stacks - 1; ++i)
+    for (int j = 0; j < slices; ++j) {
+      t.push_back({idx(i, j), idx(i, j + 1), idx(i + 1, j + 1)});
+      t.push_back({idx(i, j), idx(i + 1, j + 1), idx(i + 1, j)});
+    }
+  for (int j = 0; j < slices; ++j)
+    t.push_back({idx(stacks - 1, j), idx(stacks - 1, j + 1), bottom});
+  return TriangleMesh(std::move(v), std::move(t));
+}
+
+/// A random soup of n triangles of size ~`size` in the cube [-extent, extent]^3 (open mesh).
+inline TriangleMesh randomSoup(std::mt19937_64& rng, int n, double extent, double size) {
+  std::vector<Vec3> v;
+  std::vector<Triangle> t;
+  for (int k = 0; k < n; ++k) {
+    const Vec3 c = randomVec(rng, -extent, extent);
+    for (int i = 0; i < 3; ++i) v.push_back(c + randomVec(rng, -size, size));
+    const std::uint32_t b = std::uint32_t(3 * k);
+    t.push_back({b, b + 1, b + 2});
+  }
+  return TriangleMesh(std::move(v), std::move(t));
+}
+
+}  // namespace inertia::test
