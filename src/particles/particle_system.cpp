@@ -10,6 +10,7 @@
 #include "inertia/collision/queries.h"
 #include "inertia/collision/uniform_grid.h"
 #include "inertia/core/error.h"
+#include "inertia/geometry/bounds.h"
 #include "inertia/ode/step.h"
 
 namespace inertia {
@@ -87,7 +88,17 @@ std::size_t ParticleSystem::addObstacle(const Obstacle& obstacle) {
               std::fabs(obstacle.pose.q.norm() - 1) < Real(1e-3),
           "Obstacle::pose must be finite with a unit quaternion");
   obstacles_.push_back(obstacle);
-  obstacles_.back().pose.q.normalize();
+  Obstacle& o = obstacles_.back();
+  o.pose.q.normalize();
+  ObstacleCache cache;
+  cache.bounds = worldBounds(o.collider.shape(), o.pose);
+  if (const Plane* plane = o.collider.shape().getIf<Plane>()) {
+    // n . x <= offset locally; in the world n' = q n and offset' = offset + n' . p.
+    cache.plane = true;
+    cache.normal = o.pose.rotate(plane->normal);
+    cache.offset = plane->offset + cache.normal.dot(o.pose.p);
+  }
+  obstacleCache_.push_back(cache);
   return obstacles_.size() - 1;
 }
 
@@ -278,6 +289,19 @@ void ParticleSystem::collideObstacles(std::size_t begin, std::size_t end, const 
     Eigen::Map<Vec3> x(&xs[3 * i]);
     Eigen::Map<Vec3> v(&vs[3 * i]);
     const Real r = radii[i];
+    // Most particles are far from every obstacle: one cheap test of the swept box first.
+    {
+      const Vec3 a = previous ? Vec3(Eigen::Map<const Vec3>(&previous[3 * (i - begin)])) : Vec3(x);
+      const Vec3 b = x;
+      const Aabb box = Aabb{a.cwiseMin(b), a.cwiseMax(b)}.inflated(r + kSkin);
+      bool near = false;
+      for (const ObstacleCache& c : obstacleCache_) {
+        near = c.plane ? std::min(c.normal.dot(a), c.normal.dot(b)) - c.offset < r + kSkin
+                       : c.bounds.overlaps(box);
+        if (near) break;
+      }
+      if (!near) continue;
+    }
     Vec3 vel = v;
     Vec3 end1 = x;
     if (previous) {
@@ -286,9 +310,22 @@ void ParticleSystem::collideObstacles(std::size_t begin, std::size_t end, const 
       for (int bounce = 0; bounce < 2; ++bounce) {
         const Vec3 sweep = end1 - start;
         if (sweep.squaredNorm() == 0) break;
+        const Aabb swept = Aabb{start.cwiseMin(end1), start.cwiseMax(end1)}.inflated(r);
         std::optional<RayHit> first;
-        for (const Obstacle& o : obstacles_) {
-          auto hit = castRay(o.collider, o.pose, Ray{start, sweep, first ? first->fraction : Real(1)});
+        for (std::size_t k = 0; k < obstacles_.size(); ++k) {
+          const ObstacleCache& c = obstacleCache_[k];
+          const Real maxFraction = first ? first->fraction : Real(1);
+          if (c.plane) {
+            // Enters the half-space where the signed distance changes sign from + to -.
+            const Real d0 = c.normal.dot(start) - c.offset, d1 = c.normal.dot(end1) - c.offset;
+            if (d0 >= 0 && d1 < 0) {
+              const Real f = d0 / (d0 - d1);
+              if (f < maxFraction) first = RayHit{f, start + f * sweep, c.normal};
+            }
+            continue;
+          }
+          if (!c.bounds.overlaps(swept)) continue;
+          auto hit = castRay(obstacles_[k].collider, obstacles_[k].pose, Ray{start, sweep, maxFraction});
           if (hit && (!first || hit->fraction < first->fraction)) first = hit;
         }
         if (!first) break;
@@ -303,8 +340,18 @@ void ParticleSystem::collideObstacles(std::size_t begin, std::size_t end, const 
       }
     }
     // Discrete: whatever is still within a radius of an obstacle is pushed out along the normal.
-    for (const Obstacle& o : obstacles_) {
-      const PointQuery q = queryPoint(o.collider, o.pose, end1);
+    for (std::size_t k = 0; k < obstacles_.size(); ++k) {
+      const ObstacleCache& c = obstacleCache_[k];
+      if (c.plane) {
+        const Real d = c.normal.dot(end1) - c.offset;
+        if (d < r) {
+          end1 += c.normal * (r + kSkin - d);
+          respond(vel, c.normal, e, mu, threshold);
+        }
+        continue;
+      }
+      if (!c.bounds.inflated(r).contains(end1)) continue;  // farther than r from the shape
+      const PointQuery q = queryPoint(obstacles_[k].collider, obstacles_[k].pose, end1);
       if (q.distance < r) {
         end1 += q.normal * (r + kSkin - q.distance);
         respond(vel, q.normal, e, mu, threshold);

@@ -108,7 +108,7 @@ TEST(PrimitiveMass, CapsuleMatchesDiscSlicing) {
   }
 }
 
-TEST(PrimitiveMass, MassScalesWithDensityThroughShape) {
+TEST(PrimitiveMass, ShapeDispatchEqualsPerTypeFunction) {
   // The Shape dispatcher gives the same as the per-type function.
   const Shape s = Box{Vec3(1, 2, 3)};
   const auto a = massProperties(s, 10), b = massProperties(Box{Vec3(1, 2, 3)}, 10);

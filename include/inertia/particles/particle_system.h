@@ -117,6 +117,15 @@ class ParticleSystem {
   std::vector<Emitter> emitters_;
   std::vector<ForceField> fields_;
   std::vector<Obstacle> obstacles_;
+  // Per obstacle, computed when added: world bounds to cull tests, and for planes the world
+  // normal and offset, tested inline (the ground plane meets every particle every step).
+  struct ObstacleCache {
+    Aabb bounds;
+    bool plane = false;
+    Vec3 normal = Vec3::UnitY();
+    Real offset = 0;
+  };
+  std::vector<ObstacleCache> obstacleCache_;
   std::vector<ParticleSpring> springs_;
   std::vector<std::uint32_t> springIndex_;  // 2 per spring: pool indices of a and b
   std::unique_ptr<Scratch> scratch_;
