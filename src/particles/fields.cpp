@@ -60,6 +60,18 @@ struct Apply {
   const std::optional<Aabb>& region;
   std::size_t n;
 
+  // Calls f(i) for every particle of the batch inside the region (all when there is none:
+  // that loop has no test in it, so the compiler can vectorise it).
+  template <class F>
+  void each(F&& f) const {
+    if (!region) {
+      for (std::size_t i = 0; i < n; ++i) f(i);
+    } else {
+      for (std::size_t i = 0; i < n; ++i)
+        if (inside(i)) f(i);
+    }
+  }
+
   bool inside(std::size_t i) const {
     if (!region) return true;
     for (int k = 0; k < 3; ++k) {
@@ -75,23 +87,19 @@ struct Apply {
   }
 
   void operator()(const GravityField& f) const {
-    for (std::size_t i = 0; i < n; ++i)
-      if (inside(i)) add(i, f.g);
+    each([&](std::size_t i) { add(i, f.g); });
   }
   void operator()(const LinearDragField& f) const {
-    for (std::size_t i = 0; i < n; ++i)
-      if (inside(i)) add(i, -(f.k / b.masses[i]) * v(i));
+    each([&](std::size_t i) { add(i, -(f.k / b.masses[i]) * v(i)); });
   }
   void operator()(const QuadraticDragField& f) const {
-    for (std::size_t i = 0; i < n; ++i)
-      if (inside(i)) {
-        const Vec3 vi = v(i);
-        add(i, -(f.k / b.masses[i]) * vi.norm() * vi);
-      }
+    each([&](std::size_t i) {
+      const Vec3 vi = v(i);
+      add(i, -(f.k / b.masses[i]) * vi.norm() * vi);
+    });
   }
   void operator()(const WindField& f) const {
-    for (std::size_t i = 0; i < n; ++i)
-      if (inside(i)) add(i, -(f.k / b.masses[i]) * (v(i) - f.velocity));
+    each([&](std::size_t i) { add(i, -(f.k / b.masses[i]) * (v(i) - f.velocity)); });
   }
   void operator()(const VortexField& f) const {
     const Vec3 axis = f.axis.normalized();

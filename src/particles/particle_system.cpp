@@ -285,23 +285,41 @@ void ParticleSystem::collideObstacles(std::size_t begin, std::size_t end, const 
   const auto radii = pool_.radii();
   const Real e = settings_.restitution, mu = settings_.friction,
              threshold = settings_.restitutionThreshold;
+  // Most particles are far from every obstacle. A branch-free pass over the batch marks those
+  // whose swept box (inflated by the radius) may touch one; only they take the full path.
+  const std::size_t count = end - begin;
+  float near[kBatch];
+  std::fill_n(near, count, 0.0f);
+  const Real* a0 = previous ? previous : &xs[3 * begin];
+  const Real* b0 = &xs[3 * begin];
+  const Real* r0 = &radii[begin];
+  for (const ObstacleCache& c : obstacleCache_) {
+    if (c.plane) {
+      const Real n0 = c.normal.x(), n1 = c.normal.y(), n2 = c.normal.z(), off = c.offset + kSkin;
+      for (std::size_t j = 0; j < count; ++j) {
+        const Real* a = a0 + 3 * j;
+        const Real* b = b0 + 3 * j;
+        const Real da = n0 * a[0] + n1 * a[1] + n2 * a[2], db = n0 * b[0] + n1 * b[1] + n2 * b[2];
+        near[j] += std::min(da, db) < off + r0[j] ? 1.0f : 0.0f;
+      }
+    } else {
+      const Vec3 lo = c.bounds.lower.array() - kSkin, hi = c.bounds.upper.array() + kSkin;
+      for (std::size_t j = 0; j < count; ++j) {
+        const Real* a = a0 + 3 * j;
+        const Real* b = b0 + 3 * j;
+        const Real r = r0[j];
+        const bool overlap = std::min(a[0], b[0]) - r <= hi[0] && std::max(a[0], b[0]) + r >= lo[0] &&
+                             std::min(a[1], b[1]) - r <= hi[1] && std::max(a[1], b[1]) + r >= lo[1] &&
+                             std::min(a[2], b[2]) - r <= hi[2] && std::max(a[2], b[2]) + r >= lo[2];
+        near[j] += overlap ? 1.0f : 0.0f;
+      }
+    }
+  }
   for (std::size_t i = begin; i < end; ++i) {
+    if (near[i - begin] == 0.0f) continue;
     Eigen::Map<Vec3> x(&xs[3 * i]);
     Eigen::Map<Vec3> v(&vs[3 * i]);
     const Real r = radii[i];
-    // Most particles are far from every obstacle: one cheap test of the swept box first.
-    {
-      const Vec3 a = previous ? Vec3(Eigen::Map<const Vec3>(&previous[3 * (i - begin)])) : Vec3(x);
-      const Vec3 b = x;
-      const Aabb box = Aabb{a.cwiseMin(b), a.cwiseMax(b)}.inflated(r + kSkin);
-      bool near = false;
-      for (const ObstacleCache& c : obstacleCache_) {
-        near = c.plane ? std::min(c.normal.dot(a), c.normal.dot(b)) - c.offset < r + kSkin
-                       : c.bounds.overlaps(box);
-        if (near) break;
-      }
-      if (!near) continue;
-    }
     Vec3 vel = v;
     Vec3 end1 = x;
     if (previous) {
