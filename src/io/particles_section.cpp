@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "inertia/core/error.h"
 #include "inertia/geometry/mesh.h"
@@ -63,7 +64,7 @@ EmitterSettings readEmitter(const Node& n, Real defaultSize) {
     e.direction = n.at("direction").vec3();
     if (e.direction.norm() < Real(1e-6)) n.at("direction").fail("direction must be non-zero");
   }
-  if (n.has("spread")) e.spread = Real(n.at("spread").number(0, M_PI));
+  if (n.has("spread")) e.spread = Real(n.at("spread").number(0, std::numbers::pi));
   if (n.has("speed")) e.speed = readRange(n.at("speed"), 0, 1e6, false);
   if (n.has("lifetime")) e.lifetime = readRange(n.at("lifetime"), 0, 1e9, true, true);
   if (n.has("mass")) e.mass = readRange(n.at("mass"), 0, 1e9, true);
@@ -80,7 +81,7 @@ EmitterSettings readEmitter(const Node& n, Real defaultSize) {
   if (n.has("seed")) e.seed = std::uint64_t(n.at("seed").integer(0, std::numeric_limits<long long>::max()));
   if (n.has("radius")) e.radius = Real(n.at("radius").number(0, 1e6));
   if (n.has("half_extents")) e.halfExtents = n.at("half_extents").vec3();
-  if (n.has("angle")) e.angle = Real(n.at("angle").number(0, M_PI));
+  if (n.has("angle")) e.angle = Real(n.at("angle").number(0, std::numbers::pi));
   if (e.shape == EmitterShape::MeshSurface) {
     // A mesh emitter's surface is given like a mesh shape's.
     std::vector<Vec3> vertices = readPoints(n.at("vertices"));

@@ -167,7 +167,7 @@ void ParticleSystem::step(Real h, tbb::task_arena* arena) {
     for (Emitter& e : emitters_) stats_.emitted += e.emit(pool_, h);
     if (!springs_.empty()) resolveSprings();
     integrate(h);
-    if (settings_.particleCollisions) collideParticles(h);
+    if (settings_.particleCollisions) collideParticles();
     const std::size_t n = pool_.size();
     const std::size_t died = pool_.removeFlagged({scratch_->dead.data(), n});
     stats_.died += std::int64_t(died);
@@ -383,8 +383,7 @@ void ParticleSystem::collideObstacles(std::size_t begin, std::size_t end, const 
 // Particles as spheres of their radii, found through a uniform grid (the seeds' broad phase for
 // many equal objects). Jacobi: every particle computes its own correction from a snapshot of
 // its neighbours, so the result does not depend on the order or the thread count. Two passes.
-void ParticleSystem::collideParticles(Real h) {
-  (void)h;
+void ParticleSystem::collideParticles() {
   Scratch& w = *scratch_;
   const std::size_t n = pool_.size();
   if (n < 2) return;

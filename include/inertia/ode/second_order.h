@@ -15,7 +15,7 @@
 
 namespace inertia::ode {
 
-/// Placeholder for a Jacobian the caller did not provide: methods that need it throw
+/// Marks a Jacobian the caller did not provide: methods that need it throw
 /// InvalidArgument naming it.
 struct NoJacobian {};
 /// Declares a Jacobian identically zero (e.g. da/dv when no force depends on velocity).

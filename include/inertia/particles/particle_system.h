@@ -107,7 +107,7 @@ class ParticleSystem {
   /// the start of the step (3 Reals each, from `begin`) for the swept test, or is null for a
   /// discrete test only.
   void collideObstacles(std::size_t begin, std::size_t end, const Real* previous);
-  void collideParticles(Real h);
+  void collideParticles();
   void resolveSprings();
   void springAccelerations(std::span<const Real> x, std::span<const Real> v,
                            std::span<Real> acc) const;

@@ -96,7 +96,8 @@ class World {
   /// The system of a valid id (InvalidArgument otherwise).
   ParticleSystem& particleSystem(ParticleSystemId id);
   const ParticleSystem& particleSystem(ParticleSystemId id) const;
-  /// The ids of the live particle systems, in creation order.
+  /// The ids of the live particle systems, in slot order (the order the world steps them; a new
+  /// system takes the first free slot).
   std::vector<ParticleSystemId> particleSystems() const;
 
   const PhaseTimes& phaseTimes() const { return phases_; }
