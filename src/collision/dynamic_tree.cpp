@@ -15,9 +15,11 @@ namespace {
 
 bool isFinite(const Vec3& v) { return v.allFinite(); }
 
+// The checks run per move in the broad phase: messages are built only on failure.
 void requireBox(const Aabb& box, const char* what) {
-  require(isFinite(box.lower) && isFinite(box.upper), std::string(what) + ": box must be finite");
-  require(box.isValid(), std::string(what) + ": box needs lower <= upper");
+  if (!isFinite(box.lower) || !isFinite(box.upper))
+    throw InvalidArgument(std::string(what) + ": box must be finite");
+  if (!box.isValid()) throw InvalidArgument(std::string(what) + ": box needs lower <= upper");
 }
 
 void check(bool ok, const std::string& what) {
@@ -57,7 +59,9 @@ void DynamicTree::freeNode(int id) {
 }
 
 void DynamicTree::requireProxy(int id, const char* what) const {
-  require(isProxy(id), std::string(what) + ": id " + std::to_string(id) + " is not a live proxy");
+  if (!isProxy(id))
+    throw InvalidArgument(std::string(what) + ": id " + std::to_string(id) +
+                          " is not a live proxy");
 }
 
 int DynamicTree::createProxy(const Aabb& box, std::uint32_t userData) {
@@ -82,7 +86,8 @@ void DynamicTree::destroyProxy(int id) {
 bool DynamicTree::moveProxy(int id, const Aabb& box, const Vec3& displacement) {
   requireProxy(id, "DynamicTree::moveProxy");
   requireBox(box, "DynamicTree::moveProxy");
-  require(isFinite(displacement), "DynamicTree::moveProxy: displacement must be finite");
+  if (!isFinite(displacement))
+    throw InvalidArgument("DynamicTree::moveProxy: displacement must be finite");
   if (nodes_[id].box.contains(box)) return false;
 
   // Predict motion: stretch the fat box along the displacement, on its leading side only.

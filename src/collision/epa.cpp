@@ -1,0 +1,323 @@
+// Expanding polytope algorithm (van den Bergen, GDC 2001 / "Collision Detection in Interactive
+// 3D Environments", 2003, 4.3): the penetration depth of two overlapping convex cores as the
+// distance from the origin to the boundary of their Minkowski difference A - B.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include "gjk.h"
+#include "local_queries.h"
+
+namespace inertia::detail {
+
+namespace {
+
+constexpr int kMaxVertices = 128;
+// A closed triangulated polytope with V vertices has 2V - 4 faces; the slack absorbs the
+// transient faces of a horizon made ragged by rounding.
+constexpr int kMaxFaces = 2 * kMaxVertices + 8;
+
+constexpr Real kEps = std::numeric_limits<Real>::epsilon();
+// Stop when the new support point lies within this fraction of the depth (plus an absolute
+// term, below) of the nearest face: polytopes stop exactly, curved cores at this accuracy.
+constexpr Real kEpaRelative = sizeof(Real) == 4 ? Real(1e-5) : Real(1e-7);
+// Rounding scale: lengths below kEpaAbsolute * size of the Minkowski difference are noise.
+constexpr Real kEpaAbsolute = 64 * kEps;
+
+struct Face {
+  std::array<int, 3> i{};        // vertices, counter-clockwise seen from outside
+  std::array<int, 3> adj{};      // adj[e]: the face across edge e (i[e] -> i[e + 1])
+  std::array<int, 3> adjEdge{};  // which edge of adj[e] that is
+  Vec3 n = Vec3::Zero();         // outward unit normal (zero for a degenerate face)
+  Real d = 0;                    // n . w[i0]: distance of the plane from the origin
+  bool valid = false;            // false for degenerate faces, never chosen as the nearest
+  bool live = false;             // false once removed (the slot is free)
+};
+
+// The polytope as faces with neighbour links (as in van den Bergen's and Jolt's EPA), so the
+// faces a new point sees are found by a walk from the nearest face: the removed set is always
+// connected and its boundary, the horizon, a single loop in order.
+struct Polytope {
+  std::array<SimplexVertex, kMaxVertices> v;
+  int nv = 0;
+  std::array<Face, kMaxFaces> f;
+  int nf = 0;  // slots used (live or free)
+  std::array<int, kMaxFaces> freeSlots{};
+  int nFree = 0;
+
+  int addFace(int a, int b, int c) {
+    int k;
+    if (nFree > 0) {
+      k = freeSlots[--nFree];
+    } else if (nf < kMaxFaces) {
+      k = nf++;
+    } else {
+      return -1;
+    }
+    Face& face = f[k];
+    face.i = {a, b, c};
+    face.live = true;
+    const Vec3 n = (v[b].w - v[a].w).cross(v[c].w - v[a].w);
+    const Real len = n.norm();
+    face.valid = len > 0 && std::isfinite(len);
+    face.n = face.valid ? Vec3(n / len) : Vec3::Zero();
+    face.d = face.valid ? face.n.dot(v[a].w) : std::numeric_limits<Real>::infinity();
+    return k;
+  }
+  void removeFace(int k) {
+    f[k].live = false;
+    freeSlots[nFree++] = k;
+  }
+  void link(int fa, int ea, int fb, int eb) {
+    f[fa].adj[ea] = fb;
+    f[fa].adjEdge[ea] = eb;
+    f[fb].adj[eb] = fa;
+    f[fb].adjEdge[eb] = ea;
+  }
+};
+
+SimplexVertex supportVertex(const ConvexProxy& a, const ConvexProxy& b, const Vec3& d) {
+  SimplexVertex sv;
+  sv.a = a.support(d);
+  sv.b = b.support(-d);
+  sv.w = sv.a - sv.b;
+  return sv;
+}
+
+// Depth 0: the Minkowski difference is flat (a point, a segment, a polygon) and holds the
+// origin, so the cores touch without depth; `normal` is any direction leaving the flat set.
+EpaResult flatResult(const ConvexProxy& a, const ConvexProxy& b, const Polytope& p,
+                     const Vec3& normal) {
+  EpaResult r;
+  Simplex s;
+  s.count = std::min(p.nv, 3);
+  for (int i = 0; i < s.count; ++i) s.v[i] = p.v[i];
+  closestToOrigin(s);
+  for (int i = 0; i < s.count; ++i) {
+    r.pointA += s.lambda[i] * s.v[i].a;
+    r.pointB += s.lambda[i] * s.v[i].b;
+  }
+  const Vec3 axis = normalizedOr(b.centre() - a.centre(), Vec3::UnitY());
+  r.normal = normal.dot(axis) < 0 ? Vec3(-normal) : normal;
+  r.depth = 0;
+  return r;
+}
+
+// A unit vector orthogonal to unit u.
+Vec3 anyOrthogonal(const Vec3& u) {
+  const Vec3 a = u.cwiseAbs();
+  const Vec3 e = a.x() <= a.y() && a.x() <= a.z() ? Vec3::UnitX()
+                 : a.y() <= a.z()                 ? Vec3::UnitY()
+                                                  : Vec3::UnitZ();
+  return u.cross(e).normalized();
+}
+
+// The point of face f closest to the origin, as witness points on A and B.
+void faceWitness(const Polytope& p, const Face& f, Vec3& pa, Vec3& pb) {
+  Simplex s;
+  s.count = 3;
+  for (int k = 0; k < 3; ++k) s.v[k] = p.v[f.i[k]];
+  closestToOrigin(s);
+  pa.setZero();
+  pb.setZero();
+  for (int k = 0; k < s.count; ++k) {
+    pa += s.lambda[k] * s.v[k].a;
+    pb += s.lambda[k] * s.v[k].b;
+  }
+}
+
+}  // namespace
+
+EpaResult epa(const ConvexProxy& a, const ConvexProxy& b, const Simplex& simplex) {
+  Polytope p;
+  for (int i = 0; i < simplex.count; ++i) p.v[p.nv++] = simplex.v[i];
+  if (p.nv == 0) p.v[p.nv++] = supportVertex(a, b, Vec3::UnitX());
+
+  Real scale = (a.centre() - b.centre()).norm();
+  for (int i = 0; i < p.nv; ++i) scale = std::max(scale, p.v[i].w.norm());
+  const Real eps = kEpaAbsolute * std::max(scale, std::numeric_limits<Real>::min());
+
+  // Adds the support point farthest off the line of p.v[0], p.v[1] (six directions around
+  // it); false, with a normal of the line, when the difference is that segment.
+  const auto growFromSegment = [&](Vec3& flatNormal) {
+    const Vec3 axis = normalizedOr(p.v[1].w - p.v[0].w, Vec3::UnitX());
+    const Vec3 n1 = anyOrthogonal(axis), n2 = axis.cross(n1);
+    flatNormal = n1;
+    SimplexVertex best;
+    Real far = 0;
+    for (int k = 0; k < 6; ++k) {
+      const Real angle = Real(k) * Real(M_PI / 3);
+      const SimplexVertex w = supportVertex(a, b, std::cos(angle) * n1 + std::sin(angle) * n2);
+      const Real off = (w.w - p.v[0].w).cross(axis).norm();
+      if (off > far) far = off, best = w;
+    }
+    if (!(far > eps)) return false;
+    p.v[p.nv++] = best;
+    return true;
+  };
+
+  // Blow a simplex of 1-3 points up to a tetrahedron (the origin on its boundary or inside).
+  while (p.nv < 4) {
+    if (p.nv == 1) {
+      const Vec3 dirs[6] = {Vec3::UnitX(),  Vec3::UnitY(),  Vec3::UnitZ(),
+                            -Vec3::UnitX(), -Vec3::UnitY(), -Vec3::UnitZ()};
+      SimplexVertex best;
+      Real far = 0;
+      for (const Vec3& d : dirs) {
+        const SimplexVertex w = supportVertex(a, b, d);
+        const Real len = (w.w - p.v[0].w).norm();
+        if (len > far) far = len, best = w;
+      }
+      if (!(far > eps))
+        return flatResult(a, b, p, normalizedOr(b.centre() - a.centre(), Vec3::UnitY()));
+      p.v[p.nv++] = best;
+    } else if (p.nv == 2) {
+      Vec3 flatNormal;
+      if (!growFromSegment(flatNormal)) return flatResult(a, b, p, flatNormal);
+    } else {
+      const Vec3 n = (p.v[1].w - p.v[0].w).cross(p.v[2].w - p.v[0].w);
+      if (!(n.norm() > eps * scale)) {
+        // A sliver: keep its longest edge and grow again from that segment (which adds the
+        // point farthest off its line, so the same sliver cannot come back).
+        int i = 0, j = 1;
+        Real longest = (p.v[1].w - p.v[0].w).squaredNorm();
+        if ((p.v[2].w - p.v[0].w).squaredNorm() > longest)
+          longest = (p.v[2].w - p.v[0].w).squaredNorm(), j = 2;
+        if ((p.v[2].w - p.v[1].w).squaredNorm() > longest) i = 1, j = 2;
+        p.v[0] = p.v[i];
+        p.v[1] = p.v[j];
+        p.nv = 2;
+        Vec3 flatNormal;
+        if (!growFromSegment(flatNormal)) return flatResult(a, b, p, flatNormal);
+        continue;
+      }
+      const Vec3 un = n.normalized();
+      const SimplexVertex up = supportVertex(a, b, un), down = supportVertex(a, b, -un);
+      const Real hUp = un.dot(up.w - p.v[0].w), hDown = -un.dot(down.w - p.v[0].w);
+      if (!(std::max(hUp, hDown) > eps)) return flatResult(a, b, p, un);
+      p.v[p.nv++] = hUp >= hDown ? up : down;
+    }
+  }
+
+  // The tetrahedron's four faces, wound outward (away from the opposite vertex), and linked.
+  {
+    const Vec3& w0 = p.v[0].w;
+    const Real vol = (p.v[1].w - w0).dot((p.v[2].w - w0).cross(p.v[3].w - w0));
+    if (vol > 0) std::swap(p.v[1], p.v[2]);  // make (0, 1, 2) face away from vertex 3
+    p.addFace(0, 1, 2);
+    p.addFace(0, 3, 1);
+    p.addFace(0, 2, 3);
+    p.addFace(1, 3, 2);
+    // Each edge appears in two faces in opposite directions: link them.
+    for (int fa = 0; fa < 4; ++fa)
+      for (int ea = 0; ea < 3; ++ea)
+        for (int fb = 0; fb < 4; ++fb)
+          for (int eb = 0; eb < 3; ++eb)
+            if (p.f[fa].i[ea] == p.f[fb].i[(eb + 1) % 3] &&
+                p.f[fa].i[(ea + 1) % 3] == p.f[fb].i[eb])
+              p.link(fa, ea, fb, eb);
+  }
+
+  EpaResult r;
+  r.converged = false;
+  // Horizon edges as (kept face, its edge), in loop order; the walk's stack.
+  std::array<std::array<int, 2>, kMaxFaces> horizon;
+  std::array<std::array<int, 2>, 2 * kMaxFaces + 4> stack;
+  for (int iter = 0; iter < kMaxVertices; ++iter) {
+    r.iterations = iter + 1;
+    int best = -1;
+    for (int k = 0; k < p.nf; ++k)
+      if (p.f[k].live && p.f[k].valid && (best < 0 || p.f[k].d < p.f[best].d)) best = k;
+    if (best < 0) break;  // every face degenerate: keep the last answer
+    // Among faces tied with the nearest (coplanar pieces of one face of the difference), take
+    // one that holds the foot of the perpendicular, so the witness points need no clamping.
+    for (int k = 0; k < p.nf; ++k) {
+      const Face& f = p.f[k];
+      if (!f.live || !f.valid || f.d > p.f[best].d + eps) continue;
+      const Vec3 foot = f.d * f.n;
+      bool inside = true;
+      for (int e = 0; e < 3; ++e) {
+        const Vec3& x = p.v[f.i[e]].w;
+        const Vec3& y = p.v[f.i[(e + 1) % 3]].w;
+        inside = inside && f.n.dot((y - x).cross(foot - x)) >= 0;
+      }
+      if (inside) {
+        best = k;
+        break;
+      }
+    }
+    const Face face = p.f[best];
+    r.normal = face.n;
+    r.depth = std::max(face.d, Real(0));
+    faceWitness(p, face, r.pointA, r.pointB);
+
+    const SimplexVertex w = supportVertex(a, b, face.n);
+    const Real gain = face.n.dot(w.w) - face.d;
+    if (gain <= kEpaRelative * std::max(face.d, Real(0)) + eps) {
+      r.converged = true;
+      break;
+    }
+    if (p.nv == kMaxVertices) break;
+
+    // Walk from the nearest face across edges, removing the faces w sees; an edge into a face
+    // it does not see is a horizon edge. Depth first, edges in winding order, so the horizon
+    // comes out as one loop in order.
+    const int iw = p.nv;
+    p.v[p.nv++] = w;
+    int nh = 0, top = 0;
+    p.removeFace(best);
+    for (int e = 2; e >= 0; --e) stack[top++] = {face.adj[e], face.adjEdge[e]};
+    bool broken = false;
+    while (top > 0 && !broken) {
+      const auto [fk, ek] = stack[--top];
+      Face& f = p.f[fk];
+      if (!f.live) continue;
+      const bool visible = f.valid && f.n.dot(w.w - p.v[f.i[0]].w) > eps;
+      if (!visible) {
+        if (nh == kMaxFaces)
+          broken = true;
+        else
+          horizon[nh++] = {fk, ek};
+        continue;
+      }
+      p.removeFace(fk);
+      if (top + 2 > int(stack.size())) broken = true;
+      // Entered across edge ek: continue with the next two edges in winding order.
+      for (int k = 2; k >= 1 && !broken; --k) {
+        const int e = (ek + k) % 3;
+        stack[top++] = {f.adj[e], f.adjEdge[e]};
+      }
+    }
+    // A new face per horizon edge (reversed, as the removed face held it), then links: to the
+    // kept face across the horizon edge and to the neighbours in the loop.
+    int first = -1, prev = -1;
+    for (int h = 0; h < nh && !broken; ++h) {
+      const auto [fk, ek] = horizon[h];
+      const int from = p.f[fk].i[(ek + 1) % 3], to = p.f[fk].i[ek];
+      const int nf = p.addFace(from, to, iw);
+      if (nf < 0) {
+        broken = true;
+        break;
+      }
+      p.link(nf, 0, fk, ek);
+      if (prev >= 0) {
+        if (p.f[prev].i[1] != from)
+          broken = true;  // not a loop: rounding made a mess
+        else
+          p.link(prev, 1, nf, 2);
+      } else {
+        first = nf;
+      }
+      prev = nf;
+    }
+    if (!broken && nh >= 3 && p.f[prev].i[1] == p.f[first].i[0]) {
+      p.link(prev, 1, first, 2);
+    } else {
+      break;  // the polytope is no longer closed: keep the answer of this iteration's face
+    }
+  }
+  return r;
+}
+
+}  // namespace inertia::detail
