@@ -1,0 +1,198 @@
+// Polyhedron views of boxes, hulls and triangles, and the separating-axis queries between two
+// polyhedra: face directions by support points, edge pairs pruned on the Gauss map (Dirk
+// Gregorius, "The Separating Axis Test between Convex Polyhedra", GDC 2013).
+#include <cmath>
+
+#include "polyhedron.h"
+
+namespace inertia::detail {
+
+namespace {
+
+// Corner k of a box has coordinates (+-hx, +-hy, +-hz) by its bits (bit 0: x, 1: y, 2: z).
+// Faces +x, -x, +y, -y, +z, -z, each loop counter-clockwise seen from outside.
+constexpr int kBoxQuads[6][4] = {{1, 3, 7, 5}, {0, 4, 6, 2}, {2, 6, 7, 3},
+                                 {0, 1, 5, 4}, {4, 5, 7, 6}, {0, 2, 3, 1}};
+
+struct BoxTopology {
+  std::array<HullHalfEdge, 24> halfEdges{};
+  std::array<HullEdge, 12> edges{};
+};
+
+// Built once: twins by matching reversed half-edges, undirected edges listed from the
+// half-edge whose origin is the lower vertex (so face0's loop runs v0 -> v1).
+BoxTopology buildBoxTopology() {
+  BoxTopology t;
+  for (int f = 0; f < 6; ++f)
+    for (int k = 0; k < 4; ++k) {
+      HullHalfEdge& h = t.halfEdges[std::size_t(4 * f + k)];
+      h.origin = std::uint32_t(kBoxQuads[f][k]);
+      h.next = std::uint32_t(4 * f + (k + 1) % 4);
+      h.face = std::uint32_t(f);
+    }
+  std::uint32_t edgeCount = 0;
+  for (std::uint32_t i = 0; i < 24; ++i) {
+    HullHalfEdge& h = t.halfEdges[i];
+    const std::uint32_t dest = t.halfEdges[h.next].origin;
+    for (std::uint32_t j = 0; j < 24; ++j)
+      if (t.halfEdges[j].origin == dest && t.halfEdges[t.halfEdges[j].next].origin == h.origin)
+        h.twin = j;
+    if (h.origin < dest) {
+      h.edge = edgeCount;
+      t.edges[edgeCount++] = {h.origin, dest, h.face, 0, i};
+    }
+  }
+  for (HullEdge& e : t.edges) e.face1 = t.halfEdges[t.halfEdges[e.halfEdge].twin].face;
+  for (HullHalfEdge& h : t.halfEdges)
+    if (h.origin > t.halfEdges[h.next].origin) h.edge = t.halfEdges[h.twin].edge;
+  return t;
+}
+
+const BoxTopology& boxTopology() {
+  static const BoxTopology topology = buildBoxTopology();
+  return topology;
+}
+
+// Arcs (a0, a1) of edge i of `pa` and (b0, b1) of edge j of `pb` (b's already negated and in
+// a's frame) intersect. A flat polygon's arc is half a great circle, which the arc test cannot
+// take in one piece (its end points are antipodal): it is split at the edge's outward
+// direction into two quarter circles with the same plane normal.
+bool edgeArcsIntersect(const PolyView& pa, int i, const Vec3& a0, const Vec3& a1,
+                       const Vec3& aNormal, const PolyView& pb, int j, const Vec3& b0,
+                       const Vec3& b1, const Vec3& bNormal, const Transform& bToA) {
+  // Sub-arcs as (start, end) pairs: one for a solid's edge, two for a flat polygon's.
+  Vec3 arcA[3] = {a0, a1, a1}, arcB[3] = {b0, b1, b1};
+  const int nA = pa.flat ? 2 : 1, nB = pb.flat ? 2 : 1;
+  if (pa.flat) arcA[1] = pa.edgeOutward(i);
+  if (pb.flat) arcB[1] = -bToA.rotate(pb.edgeOutward(j));
+  for (int x = 0; x < nA; ++x)
+    for (int y = 0; y < nB; ++y)
+      if (arcsIntersect(arcA[x], arcA[x + 1], aNormal, arcB[y], arcB[y + 1], bNormal))
+        return true;
+  return false;
+}
+
+}  // namespace
+
+int PolyView::supportIndex(const Vec3& d) const {
+  int best = 0;
+  Real bestDot = vertices[0].dot(d);
+  for (int i = 1; i < vertexCount; ++i) {
+    const Real dot = vertices[i].dot(d);
+    if (dot > bestDot) bestDot = dot, best = i;
+  }
+  return best;
+}
+
+PolyView makePolyView(const ConvexHull& hull) {
+  PolyView v;
+  v.vertices = hull.vertices().data();
+  v.faces = hull.faces().data();
+  v.halfEdges = hull.halfEdges().data();
+  v.edges = hull.edges().data();
+  v.vertexCount = int(hull.vertices().size());
+  v.faceCount = int(hull.faces().size());
+  v.edgeCount = int(hull.edges().size());
+  return v;
+}
+
+PolyView makePolyView(const Box& box, PolyStorage& storage) {
+  const Vec3& h = box.halfExtents;
+  for (int k = 0; k < 8; ++k)
+    storage.vertices[std::size_t(k)] =
+        Vec3((k & 1) ? h.x() : -h.x(), (k & 2) ? h.y() : -h.y(), (k & 4) ? h.z() : -h.z());
+  for (int f = 0; f < 6; ++f) {
+    Vec3 n = Vec3::Zero();
+    n[f / 2] = (f % 2) ? Real(-1) : Real(1);
+    storage.faces[std::size_t(f)] = {n, h[f / 2], std::uint32_t(4 * f), 4};
+  }
+  const BoxTopology& t = boxTopology();
+  PolyView v;
+  v.vertices = storage.vertices.data();
+  v.faces = storage.faces.data();
+  v.halfEdges = t.halfEdges.data();
+  v.edges = t.edges.data();
+  v.vertexCount = 8;
+  v.faceCount = 6;
+  v.edgeCount = 12;
+  return v;
+}
+
+PolyView makePolyView(const Vec3 (&tri)[3], PolyStorage& storage) {
+  for (int k = 0; k < 3; ++k) storage.vertices[std::size_t(k)] = tri[k];
+  Vec3 n = (tri[1] - tri[0]).cross(tri[2] - tri[0]);
+  const Real len = n.norm();
+  n = len > 0 ? Vec3(n / len) : Vec3::UnitY();
+  storage.faces[0] = {n, n.dot(tri[0]), 0, 3};
+  storage.faces[1] = {-n, -n.dot(tri[0]), 3, 3};
+  // Front loop 0 -> 1 -> 2 (half-edges 0..2, half-edge k = edge k); back loop 0 -> 2 -> 1
+  // (half-edge 3 + j runs from back[j] to back[j + 1]).
+  constexpr std::uint32_t back[3] = {0, 2, 1};
+  for (std::uint32_t k = 0; k < 3; ++k) {
+    storage.halfEdges[k] = {k, (k + 1) % 3, 0, 0, k};
+    storage.edges[k] = {k, (k + 1) % 3, 0, 1, k};
+  }
+  for (std::uint32_t j = 0; j < 3; ++j) {
+    const std::uint32_t from = back[j], to = back[(j + 1) % 3];
+    // The front edge to -> from is edge `to` when from == (to + 1) % 3.
+    const std::uint32_t edge = (to + 1) % 3 == from ? to : from;
+    storage.halfEdges[3 + j] = {from, 3 + (j + 1) % 3, edge, 1, edge};
+    storage.halfEdges[edge].twin = 3 + j;
+  }
+  PolyView v;
+  v.vertices = storage.vertices.data();
+  v.faces = storage.faces.data();
+  v.halfEdges = storage.halfEdges.data();
+  v.edges = storage.edges.data();
+  v.vertexCount = 3;
+  v.faceCount = 2;
+  v.edgeCount = 3;
+  v.flat = true;
+  return v;
+}
+
+FaceQuery queryFaceDirections(const PolyView& a, const PolyView& b, const Transform& bToA) {
+  FaceQuery best;
+  for (int f = 0; f < a.faceCount; ++f) {
+    const HullFace& face = a.faces[f];
+    // b's deepest point along -n, found in b's frame.
+    const Vec3 dirB = bToA.q.conjugate() * (-face.normal);
+    const Vec3 p = bToA.apply(b.vertices[b.supportIndex(dirB)]);
+    const Real s = face.normal.dot(p) - face.offset;
+    if (s > best.separation) best = {s, f};
+  }
+  return best;
+}
+
+EdgeQuery queryEdgeDirections(const PolyView& a, const PolyView& b, const Transform& bToA) {
+  EdgeQuery best;
+  for (int i = 0; i < a.edgeCount; ++i) {
+    const HullEdge& ea = a.edges[i];
+    const Vec3& na0 = a.faces[ea.face0].normal;
+    const Vec3& na1 = a.faces[ea.face1].normal;
+    const Vec3 pa = a.vertices[ea.v0];
+    const Vec3 da = a.edgeDirection(i);
+    const Vec3 outA = a.edgeOutward(i);
+    for (int j = 0; j < b.edgeCount; ++j) {
+      const HullEdge& eb = b.edges[j];
+      const Vec3 nb0 = bToA.rotate(b.faces[eb.face0].normal);
+      const Vec3 nb1 = bToA.rotate(b.faces[eb.face1].normal);
+      const Vec3 db = bToA.rotate(b.edgeDirection(j));
+      // For a convex edge v0 -> v1 on face0, n1 x n0 = -(v1 - v0) (up to a positive factor);
+      // the arcs of B are negated (Minkowski difference A - B): (-nb1) x (-nb0) = -db.
+      if (!edgeArcsIntersect(a, i, na0, na1, -da, b, j, -nb0, -nb1, -db, bToA)) continue;
+      Vec3 axis = da.cross(db);
+      const Real len = axis.norm();
+      if (!(len > kParallelSine * da.norm() * db.norm())) continue;
+      axis /= len;
+      const Real side = axis.dot(outA);
+      if (side == 0) continue;
+      if (side < 0) axis = -axis;
+      const Real s = axis.dot(bToA.apply(b.vertices[eb.v0]) - pa);
+      if (s > best.separation) best = {s, i, j, axis};
+    }
+  }
+  return best;
+}
+
+}  // namespace inertia::detail
