@@ -134,8 +134,18 @@ int runScene(const RunOptions& o) {
     std::fprintf(stderr, "inertia: --record-particles: %s\n", e.what());
     return kBadInput;
   }
-  // Rigid bodies arrive with the dynamics layer; until then a body recording holds the header.
+  const std::vector<BodyId> bodyIds = world->rigidBodies().bodies();
   auto record = [&] {
+    if (recorder) {
+      const RigidBodySystem& rb = world->rigidBodies();
+      for (std::size_t i = 0; i < bodyIds.size(); ++i) {
+        const BodyId id = bodyIds[i];
+        const std::string index = std::to_string(i);
+        const std::string_view name = rb.name(id).empty() ? std::string_view(index) : rb.name(id);
+        recorder->write(Real(world->time()), name, rb.transform(id), rb.linearVelocity(id),
+                        rb.angularVelocity(id));
+      }
+    }
     if (!particleRecorder) return;
     for (ParticleSystemId id : world->particleSystems()) {
       const ParticleSystem& ps = world->particleSystem(id);

@@ -3,6 +3,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "bodies_section.h"
 #include "json_reader.h"
 #include "particles_section.h"
 
@@ -31,6 +32,8 @@ void readSolver(const Node& n, SolverSettings& s) {
     Node t = n.at("type");
     if (!solverFromName(t.string(), s.type))
       t.fail("unknown solver \"" + t.string() + "\"; expected one of " + std::string(solverNames()));
+    if (s.type == SolverType::LcpDantzig || s.type == SolverType::LcpLemke)
+      t.fail("the " + t.string() + " solver is not built yet; use soft_step or pgs");
   }
   if (n.has("iterations")) s.iterations = int(n.at("iterations").integer(1, 1000));
 }
@@ -113,8 +116,13 @@ Scene parseScene(const std::string& text, const std::filesystem::path& name) {
                    "deformables"});
   if (n.has("world")) readWorld(n.at("world"), scene.world);
   if (n.has("camera")) scene.camera = readCamera(n.at("camera"));
-  requireEmpty(n, "materials", true, "materials");
-  requireEmpty(n, "bodies", false, "rigid bodies");
+  detail::MaterialTable materials;
+  if (n.has("materials")) materials = detail::readMaterials(n.at("materials"));
+  if (n.has("bodies")) {
+    Node list = n.at("bodies");
+    for (std::size_t i = 0; i < list.requireArray(); ++i)
+      detail::readBodies(list.at(i), i, materials, scene.bodies);
+  }
   requireEmpty(n, "joints", false, "joints");
   if (n.has("particle_systems")) {
     Node list = n.at("particle_systems");
@@ -138,6 +146,7 @@ Scene loadScene(const std::filesystem::path& file) {
 
 std::unique_ptr<World> instantiate(const Scene& scene) {
   auto world = std::make_unique<World>(scene.world);
+  for (const BodyDesc& d : scene.bodies) addBody(*world, d);
   for (const ParticleSystemDesc& d : scene.particleSystems) {
     ParticleSystem& ps = world->particleSystem(world->createParticleSystem(d.settings));
     for (const EmitterSettings& e : d.emitters) ps.addEmitter(e);

@@ -11,40 +11,16 @@
 
 namespace inertia {
 
-namespace {
-struct SolverEntry {
-  SolverType type;
-  std::string_view name;
-};
-constexpr std::array<SolverEntry, 4> kSolvers{{{SolverType::SoftStep, "soft_step"},
-                                               {SolverType::Pgs, "pgs"},
-                                               {SolverType::LcpDantzig, "lcp_dantzig"},
-                                               {SolverType::LcpLemke, "lcp_lemke"}}};
-}  // namespace
-
-std::string_view solverName(SolverType type) {
-  for (const auto& s : kSolvers)
-    if (s.type == type) return s.name;
-  return "unknown";
-}
-
-bool solverFromName(std::string_view name, SolverType& out) {
-  for (const auto& s : kSolvers)
-    if (s.name == name) {
-      out = s.type;
-      return true;
-    }
-  return false;
-}
-
-std::string_view solverNames() { return "soft_step, pgs, lcp_dantzig, lcp_lemke"; }
-
 void validate(const WorldSettings& s) {
   require(s.gravity.allFinite(), "WorldSettings::gravity must be finite");
   require(std::isfinite(s.dt) && s.dt > 0, "WorldSettings::dt must be finite and > 0 (s)");
   require(s.substeps >= 1 && s.substeps <= 64, "WorldSettings::substeps must be in 1..64");
   require(s.solver.iterations >= 1 && s.solver.iterations <= 1000,
           "WorldSettings::solver.iterations must be in 1..1000");
+  require(s.solver.type == SolverType::SoftStep || s.solver.type == SolverType::Pgs,
+          "WorldSettings::solver.type: " + std::string(solverName(s.solver.type)) +
+              " is not built yet (soft_step and pgs are)");
+  validate(s.contact);
   require(s.threads >= 0 && s.threads <= 1024, "WorldSettings::threads must be in 0..1024");
 }
 
@@ -67,8 +43,17 @@ World& World::operator=(World&&) noexcept = default;
 void World::step(Real dt) {
   require(std::isfinite(dt) && dt > 0, "World::step: dt must be finite and > 0 (s)");
   using Clock = std::chrono::steady_clock;
-  // Rigid bodies (broad phase, narrow phase, solver and integration per substep) arrive with
-  // the dynamics layer. Particle systems take one step of dt each, in creation order.
+  // Rigid bodies first (broad phase, narrow phase, solver and integration per substep), then
+  // the particle systems, one step of dt each, in creation order.
+  DynamicsSettings dynamics;
+  dynamics.gravity = settings_.gravity;
+  dynamics.substeps = settings_.substeps;
+  dynamics.solver = settings_.solver;
+  dynamics.integrator = settings_.integrator;
+  dynamics.sleeping = settings_.sleeping;
+  dynamics.combine = settings_.combine;
+  dynamics.contact = settings_.contact;
+  bodies_.step(dt, dynamics, &threads_->arena);
   const auto t0 = Clock::now();
   for (ParticleSlot& slot : particleSlots_)
     if (slot.system) slot.system->step(dt, &threads_->arena);
@@ -116,6 +101,23 @@ std::vector<ParticleSystemId> World::particleSystems() const {
   for (std::uint32_t i = 0; i < particleSlots_.size(); ++i)
     if (particleSlots_[i].system) ids.push_back({i, particleSlots_[i].generation});
   return ids;
+}
+
+PhaseTimes World::phaseTimes() const {
+  PhaseTimes t = phases_;
+  const DynamicsTimes& d = bodies_.times();
+  t.broadPhase = d.broadPhase;
+  t.narrowPhase = d.narrowPhase;
+  t.solver = d.solver;
+  t.integration = d.integration;
+  return t;
+}
+
+void World::restoreState(const State& state) {
+  bodies_ = state.bodies;
+  time_ = state.time;
+  accumulator_ = state.accumulator;
+  steps_ = state.steps;
 }
 
 int World::advance(Real frameTime, int maxSteps) {

@@ -1,4 +1,5 @@
 // The inertia command end to end: exit codes 0 / 2 and messages that name what is wrong.
+#include <algorithm>
 #include <sys/wait.h>
 
 #include <cstdio>
@@ -167,4 +168,38 @@ TEST_F(Cli, ParticleRecordingIsIdenticalAtOneAndTwoThreads) {
   const auto& ps = stats["particle_systems"][0];
   EXPECT_EQ(ps["name"], "f");
   EXPECT_EQ(ps["emitted"].get<long long>(), ps["alive"].get<long long>() + ps["died"].get<long long>());
+}
+
+TEST_F(Cli, BodyRecordingIsIdenticalAtOneAndTwoThreads) {
+  std::string file = write("rain.json", R"({
+    "bodies": [
+      {"name": "ground", "type": "static", "shapes": [{"type": "plane", "normal": [0, 1, 0], "offset": 0}]},
+      {"type": "rain", "count": 30, "lower": [-1, 1, -1], "upper": [1, 5, 1], "seed": 3,
+       "shape": {"type": "box", "half_extents": [0.2, 0.1, 0.3]}}
+    ]
+  })");
+  for (const char* threads : {"1", "2"}) {
+    Result r = run("run " + file + " --steps 90 --record-every 30 --threads " + threads + " --record " +
+                   path(std::string("b") + threads + ".csv") + " --stats " +
+                   path(std::string("t") + threads + ".json"));
+    ASSERT_EQ(r.code, 0) << r.output;
+  }
+  const std::string one = read("b1.csv"), two = read("b2.csv");
+  EXPECT_EQ(one.substr(0, 49), "time,body,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n");
+  // The header and 31 bodies at 4 recorded times (0, 30, 60, 90 steps).
+  EXPECT_EQ(std::count(one.begin(), one.end(), '\n'), 1 + 31 * 4);
+  EXPECT_TRUE(one == two) << "recordings differ between 1 and 2 threads";
+  nlohmann::json stats = nlohmann::json::parse(read("t1.json"));
+  EXPECT_EQ(stats["bodies"].get<int>(), 31);
+  EXPECT_GT(stats["contacts"].get<int>(), 0);  // the boxes have landed after 1.5 s
+}
+
+TEST_F(Cli, BadBodyInputNamesThePointer) {
+  std::string file = write("bad_body.json", R"({
+    "bodies": [{"name": "ball", "shapes": [{"type": "sphere", "radius": 1, "material": "unobtainium"}]}]
+  })");
+  Result r = run("run " + file + " --steps 1");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("/bodies/0/shapes/0/material"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("unknown material"), std::string::npos) << r.output;
 }

@@ -98,7 +98,26 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{R"({"camera": {"position": [1, 1, 1], "target": [1, 1, 1]}})", "/camera", "coincide"},
         BadCase{R"({"camera": {"fov": 180.5}})", "/camera/fov", "out of range"},
         BadCase{R"({"bodies": {}})", "/bodies", "expected an array"},
-        BadCase{R"({"bodies": [{"name": "ball"}]})", "/bodies/0", "not implemented yet"},
+        BadCase{R"({"bodies": [{"type": "rigid"}]})", "/bodies/0/type", "unknown body type"},
+        BadCase{R"({"bodies": [{"shapes": [{"type": "plane", "normal": [0, 1, 0], "offset": 0}]}]})",
+                "/bodies/0/shapes/0", "static body"},
+        BadCase{R"({"bodies": [{"shapes": [{"type": "sphere", "radius": 1, "material": "rubber"}]}]})",
+                "/bodies/0/shapes/0/material", "unknown material"},
+        BadCase{R"({"materials": {"ice": {"friction": -0.1}}, "bodies": []})", "/materials/ice/friction",
+                "out of range"},
+        BadCase{R"({"materials": {"ice": {"restitution": 1.5}}})", "/materials/ice/restitution", "out of range"},
+        BadCase{R"({"bodies": [{"mass": -2}]})", "/bodies/0/mass", "out of range"},
+        BadCase{R"({"bodies": [{"inertia": [1, 1, 1]}]})", "/bodies/0/inertia", "needs \"mass\""},
+        BadCase{R"({"bodies": [{"velocity": [1, 2]}]})", "/bodies/0/velocity", "3 numbers"},
+        BadCase{R"({"bodies": [{"type": "pyramid", "base": 0}]})", "/bodies/0/base", "out of range"},
+        BadCase{R"({"bodies": [{"type": "grid", "counts": [2, 2], "shape": {"type": "sphere", "radius": 1}}]})",
+                "/bodies/0/counts", "expected [nx, ny, nz]"},
+        BadCase{R"({"bodies": [{"type": "rain", "count": 5, "lower": [0, 0, 0], "upper": [1, -1, 1],
+                    "shape": {"type": "sphere", "radius": 1}}]})", "/bodies/0/upper", "upper must be"},
+        BadCase{R"({"bodies": [{"shapes": [{"type": "sphere", "radius": 1, "color": [2, 0, 0]}]}]})",
+                "/bodies/0/shapes/0/color", "[0, 1]"},
+        BadCase{R"({"world": {"solver": {"type": "lcp_lemke"}}})", "/world/solver/type", "not built yet"},
+        BadCase{R"({"joints": [{"type": "hinge"}]})", "/joints/0", "not implemented yet"},
         BadCase{R"({"world": {"a/b~c": 1}})", "/world/a~1b~0c", "unknown key"},
         BadCase{R"([1, 2])", "", "expected an object"},
         BadCase{R"({"particle_systems": [{"capacity": 0}]})", "/particle_systems/0/capacity", "out of range"},
@@ -156,6 +175,29 @@ TEST(Scene, ReadsParticleSystems) {
   EXPECT_EQ(d.obstacles.size(), 3u);
   auto world = io::instantiate(s);
   EXPECT_EQ(world->particleSystems().size(), 1u);
+}
+
+TEST(Scene, ReadsBodiesMaterialsAndGenerators) {
+  io::Scene s = parseScene(R"({
+    "materials": {"rubber": {"density": 1100, "friction": 0.8, "restitution": 0.9}},
+    "bodies": [
+      {"name": "ground", "type": "static", "shapes": [{"type": "plane", "normal": [0, 1, 0], "offset": 0}]},
+      {"name": "ball", "position": [0, 5, 0], "velocity": [1, 0, 0], "bullet": true,
+       "shapes": [{"type": "sphere", "radius": 0.5, "material": "rubber"}]},
+      {"type": "pyramid", "base": 3, "half_extents": [0.5, 0.5, 0.5], "position": [10, 0, 0]},
+      {"type": "grid", "counts": [2, 1, 2], "spacing": 1.5, "shape": {"type": "box", "half_extents": [0.2, 0.2, 0.2]}}
+    ]})", "b.json");
+  ASSERT_EQ(s.bodies.size(), 2u + 6u + 4u);
+  EXPECT_EQ(s.bodies[0].settings.type, BodyType::Static);
+  EXPECT_EQ(s.bodies[1].settings.name, "ball");
+  EXPECT_TRUE(s.bodies[1].settings.bullet);
+  EXPECT_FLOAT_EQ(s.bodies[1].shapes[0].material.restitution, Real(0.9));
+  EXPECT_FLOAT_EQ(s.bodies[1].settings.linearVelocity.x(), 1);
+  // The pyramid's top box sits on two rows of unit boxes: centre at 2.5 m.
+  EXPECT_FLOAT_EQ(s.bodies[7].settings.position.y(), Real(2.5));
+  EXPECT_FLOAT_EQ(s.bodies[11].settings.position.z(), Real(1.5));
+  auto world = io::instantiate(s);
+  EXPECT_EQ(world->bodyCount(), 12);
 }
 
 TEST(Scene, SyntaxErrorsGiveLineAndColumn) {

@@ -11,6 +11,7 @@
 
 #include "inertia/core/types.h"
 #include "inertia/particles/particle_system.h"
+#include "inertia/world/builders.h"
 #include "inertia/world/world.h"
 
 namespace inertia::io {
@@ -49,6 +50,7 @@ struct Scene {
   std::filesystem::path file;  ///< Where it was read from (for relative paths and messages).
   WorldSettings world;
   std::optional<Camera> camera;
+  std::vector<BodyDesc> bodies;  ///< Generators already expanded, in file order.
   std::vector<ParticleSystemDesc> particleSystems;
 };
 

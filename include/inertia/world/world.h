@@ -9,25 +9,11 @@
 
 #include "inertia/core/id.h"
 #include "inertia/core/types.h"
+#include "inertia/dynamics/rigid_body_system.h"
 #include "inertia/ode/method.h"
 #include "inertia/particles/particle_system.h"
 
 namespace inertia {
-
-/// The contact solver a world uses (DESIGN.md section 4, `"solver": {"type": ...}`).
-enum class SolverType { SoftStep, Pgs, LcpDantzig, LcpLemke };
-
-/// The scene-file name of a solver ("soft_step", "pgs", "lcp_dantzig", "lcp_lemke").
-std::string_view solverName(SolverType type);
-/// The solver of a scene-file name, or false when the name is unknown.
-bool solverFromName(std::string_view name, SolverType& out);
-/// The accepted solver names, comma separated, for error messages.
-std::string_view solverNames();
-
-struct SolverSettings {
-  SolverType type = SolverType::SoftStep;
-  int iterations = 8;  ///< Velocity iterations per substep (1..1000).
-};
 
 /// Settings of a world, filled with designated initialisers: World({.gravity = {0, -9.81f, 0}}).
 struct WorldSettings {
@@ -38,6 +24,8 @@ struct WorldSettings {
   ode::Method integrator = ode::Method::SymplecticEuler;  ///< For unconstrained motion.
   int threads = 0;        ///< Worker threads; 0 uses every core. Results do not depend on it.
   bool sleeping = true;   ///< Let bodies at rest fall asleep.
+  MaterialCombine combine{};  ///< How touching materials combine (friction, restitution, ...).
+  ContactTuning contact{};    ///< Contact softness, slop, speculative margin, sleep thresholds.
 };
 
 /// Checks settings and throws InvalidArgument naming the first bad field.
@@ -83,9 +71,27 @@ class World {
   double time() const { return time_; }
   std::int64_t stepCount() const { return steps_; }
 
-  /// Number of bodies and contacts (rigid bodies arrive with the dynamics layer).
-  int bodyCount() const { return 0; }
-  int contactCount() const { return 0; }
+  // Rigid bodies (DESIGN.md section 3); the full body API is on rigidBodies().
+  /// Adds a body (InvalidArgument for invalid settings).
+  BodyId createBody(const BodySettings& settings = {}) { return bodies_.createBody(settings); }
+  void destroyBody(BodyId id) { bodies_.destroyBody(id); }
+  bool isValid(BodyId id) const { return bodies_.isValid(id); }
+  /// Attaches a shape of `material` at `local` (relative to the body's origin).
+  ShapeId addShape(BodyId body, const Shape& shape, const Material& material = {},
+                   const Transform& local = {}) {
+    return bodies_.addShape(body, shape, material, local);
+  }
+  Transform transform(BodyId id) const { return bodies_.transform(id); }
+  Vec3 linearVelocity(BodyId id) const { return bodies_.linearVelocity(id); }    ///< (m/s)
+  Vec3 angularVelocity(BodyId id) const { return bodies_.angularVelocity(id); }  ///< (rad/s)
+  /// The first shape a ray hits.
+  std::optional<WorldRayHit> castRay(const Ray& ray) const { return bodies_.castRay(ray); }
+  RigidBodySystem& rigidBodies() { return bodies_; }
+  const RigidBodySystem& rigidBodies() const { return bodies_; }
+
+  /// Number of bodies, and of touching contact manifolds after the last step.
+  int bodyCount() const { return bodies_.bodyCount(); }
+  int contactCount() const { return bodies_.contactCount(); }
 
   /// Adds a particle system (InvalidArgument for invalid settings); the world steps it once
   /// per step with the step's dt.
@@ -100,7 +106,19 @@ class World {
   /// system takes the first free slot).
   std::vector<ParticleSystemId> particleSystems() const;
 
-  const PhaseTimes& phaseTimes() const { return phases_; }
+  /// Seconds per phase, summed over all steps.
+  PhaseTimes phaseTimes() const;
+
+  /// A copy of the rigid bodies' and the clock's state; restoreState() continues from it
+  /// bit-identically (particle systems are not included).
+  struct State {
+    RigidBodySystem bodies;
+    double time = 0;
+    double accumulator = 0;
+    std::int64_t steps = 0;
+  };
+  State saveState() const { return {bodies_, time_, accumulator_, steps_}; }
+  void restoreState(const State& state);
 
  private:
   struct Threads;
@@ -111,6 +129,7 @@ class World {
   WorldSettings settings_;
   std::unique_ptr<Threads> threads_;
   std::vector<ParticleSlot> particleSlots_;
+  RigidBodySystem bodies_;
   double time_ = 0;
   double accumulator_ = 0;
   std::int64_t steps_ = 0;

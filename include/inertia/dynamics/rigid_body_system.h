@@ -1,0 +1,201 @@
+// The rigid bodies of a world: bodies, their shapes, contacts and the contact solver pipeline.
+// The World owns one and forwards its body API to it; it is usable on its own too.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include <tbb/task_arena.h>
+
+#include "inertia/collision/collider.h"
+#include "inertia/collision/contact.h"
+#include "inertia/collision/queries.h"
+#include "inertia/core/types.h"
+#include "inertia/dynamics/body.h"
+#include "inertia/geometry/shapes.h"
+#include "inertia/ode/method.h"
+
+namespace inertia {
+
+/// The contact solver (DESIGN.md section 4, `"solver": {"type": ...}`).
+/// - SoftStep: Catto's soft step (Box2D v3): substeps, soft contact constraints whose stiffness
+///   follows the substep rate, relaxation iterations without the position bias, restitution
+///   after the substeps, warm starting.
+/// - Pgs: sequential impulses (projected Gauss-Seidel) on rigid rows with warm starting and
+///   Baumgarte position correction, once per substep.
+/// - LcpDantzig, LcpLemke: direct LCP solvers for small systems (not built yet: a world
+///   refuses them).
+enum class SolverType { SoftStep, Pgs, LcpDantzig, LcpLemke };
+
+/// The scene-file name of a solver ("soft_step", "pgs", "lcp_dantzig", "lcp_lemke").
+std::string_view solverName(SolverType type);
+/// The solver of a scene-file name, or false when the name is unknown.
+bool solverFromName(std::string_view name, SolverType& out);
+/// The accepted solver names, comma separated, for error messages.
+std::string_view solverNames();
+
+struct SolverSettings {
+  SolverType type = SolverType::SoftStep;
+  int iterations = 8;  ///< Velocity iterations per substep (1..1000).
+};
+
+/// Contact tuning (defaults as Box2D v3, in metres and seconds).
+struct ContactTuning {
+  Real hertz = 60;          ///< Stiffness of soft contacts (Hz), capped at a quarter of the substep rate.
+  Real dampingRatio = 10;   ///< Damping ratio of soft contacts (over-damped: no bounce from push-out).
+  Real pushVelocity = 3;    ///< Largest speed at which overlap is resolved (m/s).
+  Real restitutionThreshold = 1;  ///< Approach speed below which contacts do not bounce (m/s).
+  Real linearSlop = Real(0.005);  ///< Allowed overlap (m): Baumgarte correction ignores it.
+  Real baumgarte = Real(0.2);     ///< Fraction of the overlap a pgs step corrects.
+  /// Contacts are created this far (m) before the shapes touch (speculative margin).
+  Real speculativeDistance = Real(0.02);
+  /// A body whose step displacement exceeds this fraction of its smallest extent is treated as
+  /// a bullet for that step (speculative contacts over its whole motion).
+  Real bulletFraction = Real(0.25);
+  Real sleepSpeed = Real(0.05);  ///< Speed (m/s, angular times extent) below which a body rests.
+  Real timeToSleep = Real(0.5);  ///< Rest time (s) after which an island falls asleep.
+};
+
+/// Checks the tuning and throws InvalidArgument naming the first bad field.
+void validate(const ContactTuning& tuning);
+
+/// What a step of the rigid bodies needs from the world.
+struct DynamicsSettings {
+  Vec3 gravity = Vec3(0, Real(-9.81), 0);  ///< (m/s^2)
+  int substeps = 4;
+  SolverSettings solver{};
+  ode::Method integrator = ode::Method::SymplecticEuler;  ///< For bodies without contacts.
+  bool sleeping = true;
+  MaterialCombine combine{};
+  ContactTuning contact{};
+};
+
+/// A contact between two shapes at the end of a step.
+struct ContactInfo {
+  BodyId bodyA;
+  BodyId bodyB;
+  ShapeId shapeA;
+  ShapeId shapeB;
+  ContactManifold manifold;                  ///< As collide() made it, at the step's start.
+  std::array<Real, 4> normalImpulses{};      ///< Per point (N s), accumulated over the step.
+};
+
+/// A contact that began or ended in the last step.
+struct ContactEvent {
+  BodyId bodyA;
+  BodyId bodyB;
+  ShapeId shapeA;
+  ShapeId shapeB;
+  Vec3 point = Vec3::Zero();   ///< A contact point (m, world); the last known one for an end.
+  Vec3 normal = Vec3::UnitY(); ///< From A to B.
+  Real approachSpeed = 0;      ///< Normal approach speed at the start (m/s, >= 0), for sounds.
+};
+
+/// A ray hit in the world.
+struct WorldRayHit {
+  BodyId body;
+  ShapeId shape;
+  RayHit hit;
+};
+
+/// Per-phase wall-clock seconds of the rigid-body pipeline.
+struct DynamicsTimes {
+  double broadPhase = 0;
+  double narrowPhase = 0;
+  double solver = 0;
+  double integration = 0;
+};
+
+/// The rigid bodies. Deterministic: the same calls give the same bytes whatever the number of
+/// threads of the arena passed to step().
+class RigidBodySystem {
+ public:
+  RigidBodySystem();
+  ~RigidBodySystem();
+  RigidBodySystem(const RigidBodySystem&);
+  RigidBodySystem& operator=(const RigidBodySystem&);
+  RigidBodySystem(RigidBodySystem&&) noexcept;
+  RigidBodySystem& operator=(RigidBodySystem&&) noexcept;
+
+  /// Adds a body (InvalidArgument for invalid settings). It has no shapes yet.
+  BodyId createBody(const BodySettings& settings);
+  /// Removes a body and its shapes; the ids become invalid.
+  void destroyBody(BodyId id);
+  bool isValid(BodyId id) const;
+  bool isValid(ShapeId id) const;
+
+  /// Attaches a shape at `local` (relative to the body's origin) made of `material`, and
+  /// updates the body's mass properties. Planes and height fields go on static bodies only;
+  /// meshes on dynamic bodies must be closed. Throws InvalidArgument otherwise.
+  ShapeId addShape(BodyId body, const Shape& shape, const Material& material = {},
+                   const Transform& local = {});
+  /// The same with a prepared collider (shares its acceleration structures).
+  ShapeId addShape(BodyId body, const Collider& collider, const Material& material = {},
+                   const Transform& local = {});
+  void removeShape(ShapeId shape);
+
+  // State of a body (all in world coordinates).
+  Transform transform(BodyId id) const;       ///< Pose of the body's origin.
+  Vec3 centerOfMass(BodyId id) const;         ///< (m)
+  Vec3 linearVelocity(BodyId id) const;       ///< Of the centre of mass (m/s).
+  Vec3 angularVelocity(BodyId id) const;      ///< (rad/s)
+  Real mass(BodyId id) const;                 ///< (kg); 0 for static and kinematic bodies.
+  Mat3 inertiaWorld(BodyId id) const;         ///< About the centre of mass (kg m^2).
+  BodyType type(BodyId id) const;
+  std::string_view name(BodyId id) const;
+  bool isAwake(BodyId id) const;
+  BodyId body(ShapeId shape) const;
+
+  void setTransform(BodyId id, const Transform& pose);   ///< Teleports; wakes the body.
+  void setLinearVelocity(BodyId id, const Vec3& v);      ///< Wakes the body.
+  void setAngularVelocity(BodyId id, const Vec3& w);     ///< Wakes the body.
+  /// Kinematic bodies: sets the velocities that reach `target` in `dt` seconds.
+  void moveKinematic(BodyId id, const Transform& target, Real dt);
+  /// A force (N) at a world point (m), applied over the next step; wakes the body.
+  void applyForce(BodyId id, const Vec3& force, const Vec3& point);
+  void applyForceAtCenter(BodyId id, const Vec3& force);
+  void applyTorque(BodyId id, const Vec3& torque);  ///< (N m)
+  /// An impulse (N s) at a world point (m): changes the velocities at once; wakes the body.
+  void applyImpulse(BodyId id, const Vec3& impulse, const Vec3& point);
+  void applyAngularImpulse(BodyId id, const Vec3& impulse);  ///< (N m s)
+  void wake(BodyId id);
+
+  /// Advances by `dt` seconds in settings.substeps substeps. Never throws for valid state.
+  void step(Real dt, const DynamicsSettings& settings, tbb::task_arena* arena);
+
+  int bodyCount() const;
+  /// Manifolds with at least one touching point (separation <= linear slop) after the last step.
+  int contactCount() const;
+  /// The live bodies in creation-slot order.
+  std::vector<BodyId> bodies() const;
+  /// The shapes of a body, in the order they were added.
+  std::vector<ShapeId> shapes(BodyId id) const;
+  const Collider& collider(ShapeId id) const;
+  Transform shapeTransform(ShapeId id) const;  ///< World pose of the shape.
+  const Material& material(ShapeId id) const;
+
+  /// Every manifold of the last step (touching or speculative), in a deterministic order.
+  const std::vector<ContactInfo>& contacts() const;
+  const std::vector<ContactEvent>& beginEvents() const;
+  const std::vector<ContactEvent>& endEvents() const;
+
+  /// The first shape the ray hits, over every body.
+  std::optional<WorldRayHit> castRay(const Ray& ray) const;
+
+  /// Kinetic energy (J) and momenta of the dynamic bodies.
+  Real kineticEnergy() const;
+  Vec3 linearMomentum() const;                 ///< (kg m/s)
+  Vec3 angularMomentum(const Vec3& about) const;  ///< About a world point (kg m^2/s).
+
+  const DynamicsTimes& times() const;
+
+ private:
+  struct Data;
+  std::unique_ptr<Data> d_;
+};
+
+}  // namespace inertia

@@ -1,0 +1,1117 @@
+// The rigid-body pipeline of a step (Box2D v3's order, in 3D):
+//   1. broad phase: move the proxies of awake bodies (boxes swept over the step for fast
+//      bodies), collect candidate pairs from the dynamic AABB tree, plus the static planes;
+//   2. narrow phase: collide() each pair with a speculative margin; warm-start impulses are
+//      matched to the previous step's points by (shapes, sub-shapes, feature id);
+//   3. islands: union-find over touching pairs; an island with one awake body wakes whole;
+//   4. solve: bodies without contacts fly free with the chosen ode method and the exact
+//      momentum-conserving rotation splitting; the others go through the contact solver
+//      (soft step or pgs) in `substeps` substeps;
+//   5. finalise: poses from the solver's motion, sleep timers, island sleep, contact events.
+#include "inertia/dynamics/rigid_body_system.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <string>
+#include <tuple>
+
+#include <Eigen/Eigenvalues>
+
+#include "contact_solver.h"
+#include "integrate.h"
+#include "inertia/collision/dynamic_tree.h"
+#include "inertia/core/error.h"
+#include "inertia/core/math.h"
+#include "inertia/geometry/bounds.h"
+#include "inertia/geometry/mass.h"
+#include "inertia/ode/step.h"
+
+namespace inertia {
+
+using detail::ContactConstraint;
+using detail::SolverBody;
+
+namespace {
+
+struct SolverEntry {
+  SolverType type;
+  std::string_view name;
+};
+constexpr std::array<SolverEntry, 4> kSolvers{{{SolverType::SoftStep, "soft_step"},
+                                               {SolverType::Pgs, "pgs"},
+                                               {SolverType::LcpDantzig, "lcp_dantzig"},
+                                               {SolverType::LcpLemke, "lcp_lemke"}}};
+
+// Below this tangential speed (m/s) a contact sticks and static friction applies.
+constexpr Real kStickSpeed = Real(0.01);
+
+struct BodyRecord {
+  std::uint32_t generation = 1;
+  bool alive = false;
+  BodyType type = BodyType::Dynamic;
+  Transform pose;                  // of the origin
+  Vec3 localCom = Vec3::Zero();
+  Vec3 com = Vec3::Zero();         // world
+  Vec3 v = Vec3::Zero();
+  Vec3 w = Vec3::Zero();
+  Vec3 force = Vec3::Zero();
+  Vec3 torque = Vec3::Zero();
+  Real mass = 0;
+  Real invMass = 0;
+  Mat3 inertiaLocal = Mat3::Zero();
+  Mat3 invInertiaLocal = Mat3::Zero();
+  Quat principalAxes = Quat::Identity();  // principal frame -> body frame
+  Vec3 principalMoments = Vec3::Ones();
+  Real linearDamping = 0;
+  Real angularDamping = 0;
+  Real gravityScale = 1;
+  Real maxLinearSpeed = 400;
+  Real maxAngularSpeed = 200;
+  Real massOverride = 0;
+  Vec3 inertiaOverride = Vec3::Zero();
+  bool allowSleep = true;
+  bool bullet = false;
+  bool awake = true;
+  bool wasFree = false;     // flew free last step: `momentum` is current
+  Vec3 momentum = Vec3::Zero();  // world angular momentum of a free body (kg m^2/s)
+  Real sleepTime = 0;
+  Real extent = 0;     // farthest shape point from the centre of mass (m)
+  Real minExtent = 1;  // smallest half size of a shape (m)
+  std::vector<std::uint32_t> shapes;
+  std::string name;
+
+  Mat3 invInertiaWorld() const {
+    const Mat3 R = pose.q.toRotationMatrix();
+    return R * invInertiaLocal * R.transpose();
+  }
+};
+
+struct ShapeRecord {
+  std::uint32_t generation = 1;
+  bool alive = false;
+  std::uint32_t body = 0;
+  Collider collider{Shape(Sphere{1})};
+  Transform local;
+  Material material;
+  int proxy = DynamicTree::kNull;  // none for planes
+};
+
+// Per contact, what the public ContactInfo does not carry: the friction state for warm starts.
+struct ContactExtra {
+  std::array<Vec3, 4> tangentImpulse{};  // world vectors, reprojected on the new tangents
+  Vec3 angularImpulse = Vec3::Zero();     // rolling + spinning, world
+  Real approach = 0;  // fastest normal approach at the step's start (m/s, >= 0)
+  bool touching = false;
+};
+
+std::uint64_t pairKey(std::uint32_t a, std::uint32_t b) {
+  return (std::uint64_t(a) << 32) | std::uint64_t(b);
+}
+
+auto contactKey(const ContactInfo& c) {
+  return std::make_tuple(c.shapeA.index, c.shapeB.index, c.manifold.subShapeA,
+                         c.manifold.subShapeB);
+}
+
+}  // namespace
+
+std::string_view solverName(SolverType type) {
+  for (const auto& s : kSolvers)
+    if (s.type == type) return s.name;
+  return "unknown";
+}
+
+bool solverFromName(std::string_view name, SolverType& out) {
+  for (const auto& s : kSolvers)
+    if (s.name == name) {
+      out = s.type;
+      return true;
+    }
+  return false;
+}
+
+std::string_view solverNames() { return "soft_step, pgs, lcp_dantzig, lcp_lemke"; }
+
+void validate(const ContactTuning& t) {
+  auto check = [](Real x, bool positive, const char* field) {
+    require(std::isfinite(x) && (positive ? x > 0 : x >= 0),
+            std::string("ContactTuning::") + field + (positive ? " must be finite and > 0"
+                                                               : " must be finite and >= 0"));
+  };
+  check(t.hertz, true, "hertz");
+  check(t.dampingRatio, false, "dampingRatio");
+  check(t.pushVelocity, true, "pushVelocity");
+  check(t.restitutionThreshold, false, "restitutionThreshold");
+  check(t.linearSlop, false, "linearSlop");
+  check(t.baumgarte, false, "baumgarte");
+  require(t.baumgarte <= 1, "ContactTuning::baumgarte must be <= 1");
+  check(t.speculativeDistance, false, "speculativeDistance");
+  check(t.bulletFraction, true, "bulletFraction");
+  check(t.sleepSpeed, false, "sleepSpeed");
+  check(t.timeToSleep, true, "timeToSleep");
+}
+
+struct RigidBodySystem::Data {
+  std::vector<BodyRecord> bodies;
+  std::vector<ShapeRecord> shapes;
+  DynamicTree tree{DynamicTreeSettings{.margin = Real(0.05), .displacementMultiplier = 2}};
+  std::vector<std::uint32_t> planes;  // shape indices of planes (unbounded: not in the tree)
+  std::vector<ContactInfo> contacts;
+  std::vector<ContactExtra> extras;
+  std::vector<ContactEvent> beginEvents;
+  std::vector<ContactEvent> endEvents;
+  DynamicsTimes times;
+  int liveBodies = 0;
+
+  // Scratch, reused from step to step.
+  std::vector<int> moved;
+  std::vector<std::pair<int, int>> proxyPairs;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  std::vector<ContactManifold> manifolds;
+  std::vector<ContactInfo> previous;
+  std::vector<ContactExtra> previousExtras;
+  std::vector<std::uint32_t> order;
+  std::vector<ContactConstraint> constraints;
+  std::vector<SolverBody> solverBodies;
+  std::vector<int> solverIndex;     // per body slot, -1 when not in the solver
+  std::vector<std::uint32_t> solverToBody;
+  std::vector<Quat> startRotation;  // per solver body
+  std::vector<Vec3> startCom;
+  std::vector<std::uint32_t> island;  // union-find parents per body slot
+  std::vector<std::uint8_t> islandAwake;
+  std::vector<Real> islandSleep;
+  std::vector<ode::Workspace<Real>> workspaces;  // per body slot (Verlet keeps history)
+
+  BodyRecord& body(BodyId id) {
+    require(isValidBody(id), "RigidBodySystem: invalid body id (index " + std::to_string(id.index) +
+                                 ", generation " + std::to_string(id.generation) + ")");
+    return bodies[id.index];
+  }
+  ShapeRecord& shape(ShapeId id) {
+    require(isValidShape(id), "RigidBodySystem: invalid shape id (index " +
+                                  std::to_string(id.index) + ")");
+    return shapes[id.index];
+  }
+  bool isValidBody(BodyId id) const {
+    return !id.isNull() && id.index < bodies.size() && bodies[id.index].alive &&
+           bodies[id.index].generation == id.generation;
+  }
+  bool isValidShape(ShapeId id) const {
+    return !id.isNull() && id.index < shapes.size() && shapes[id.index].alive &&
+           shapes[id.index].generation == id.generation;
+  }
+  BodyId bodyId(std::uint32_t i) const { return {i, bodies[i].generation}; }
+  ShapeId shapeId(std::uint32_t i) const { return {i, shapes[i].generation}; }
+  Transform shapePose(const ShapeRecord& s) const { return bodies[s.body].pose * s.local; }
+
+  void updateMass(BodyRecord& b);
+  void refreshProxies(BodyRecord& b);
+  void dropContacts(std::uint32_t shape);
+  void wake(BodyRecord& b) {
+    if (b.type == BodyType::Static) return;
+    b.awake = true;
+    b.sleepTime = 0;
+  }
+};
+
+void RigidBodySystem::Data::updateMass(BodyRecord& b) {
+  b.wasFree = false;
+  b.localCom = Vec3::Zero();
+  b.extent = 0;
+  b.minExtent = std::numeric_limits<Real>::infinity();
+  std::vector<MassProperties> parts;
+  for (std::uint32_t si : b.shapes) {
+    const ShapeRecord& s = shapes[si];
+    if (b.type == BodyType::Dynamic)
+      parts.push_back(transformed(massProperties(s.collider.shape(), s.material.density), s.local));
+  }
+  if (b.type != BodyType::Dynamic) {
+    b.mass = b.invMass = 0;
+    b.inertiaLocal = b.invInertiaLocal = Mat3::Zero();
+  } else {
+    MassProperties props;
+    if (parts.empty()) {
+      // No shapes: a unit mass with the inertia of a 0.5 m sphere (Box2D defaults to 1 kg).
+      props.mass = 1;
+      props.inertia = Mat3::Identity() * Real(0.1);
+    } else {
+      props = combine(parts);
+    }
+    if (b.massOverride > 0) {
+      props.inertia *= b.massOverride / props.mass;
+      props.mass = b.massOverride;
+    }
+    if (!b.inertiaOverride.isZero()) props.inertia = b.inertiaOverride.asDiagonal();
+    b.mass = props.mass;
+    b.invMass = 1 / props.mass;
+    b.localCom = props.centerOfMass;
+    b.inertiaLocal = Real(0.5) * (props.inertia + props.inertia.transpose());
+    b.invInertiaLocal = b.inertiaLocal.inverse();
+    // Principal axes for the free-rotation splitting (a proper rotation).
+    Eigen::SelfAdjointEigenSolver<Mat3> eig(b.inertiaLocal);
+    Mat3 axes = eig.eigenvectors();
+    if (axes.determinant() < 0) axes.col(2) = -axes.col(2);
+    b.principalAxes = Quat(axes).normalized();
+    b.principalMoments = eig.eigenvalues().cwiseMax(Real(1e-12) * eig.eigenvalues().maxCoeff());
+  }
+  for (std::uint32_t si : b.shapes) {
+    const ShapeRecord& s = shapes[si];
+    if (s.collider.type() == ShapeType::Plane) continue;
+    const Aabb box = transformAabb(localBounds(s.collider.shape()), s.local);
+    for (int c = 0; c < 8; ++c) {
+      const Vec3 corner((c & 1) ? box.upper.x() : box.lower.x(),
+                        (c & 2) ? box.upper.y() : box.lower.y(),
+                        (c & 4) ? box.upper.z() : box.lower.z());
+      b.extent = std::max(b.extent, (corner - b.localCom).norm());
+    }
+    b.minExtent = std::min(b.minExtent, Real(0.5) * (box.upper - box.lower).minCoeff());
+  }
+  if (!std::isfinite(b.minExtent)) b.minExtent = 1;
+  b.minExtent = std::max(b.minExtent, Real(1e-3));
+  b.com = b.pose.apply(b.localCom);
+}
+
+void RigidBodySystem::Data::refreshProxies(BodyRecord& b) {
+  for (std::uint32_t si : b.shapes) {
+    ShapeRecord& s = shapes[si];
+    if (s.proxy == DynamicTree::kNull) continue;
+    tree.destroyProxy(s.proxy);
+    s.proxy = tree.createProxy(worldBounds(s.collider.shape(), shapePose(s)), si);
+  }
+}
+
+void RigidBodySystem::Data::dropContacts(std::uint32_t shape) {
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < contacts.size(); ++i) {
+    if (contacts[i].shapeA.index == shape || contacts[i].shapeB.index == shape) continue;
+    contacts[out] = contacts[i];
+    extras[out] = extras[i];
+    ++out;
+  }
+  contacts.resize(out);
+  extras.resize(out);
+}
+
+RigidBodySystem::RigidBodySystem() : d_(std::make_unique<Data>()) {}
+RigidBodySystem::~RigidBodySystem() = default;
+RigidBodySystem::RigidBodySystem(const RigidBodySystem& o) : d_(std::make_unique<Data>(*o.d_)) {}
+RigidBodySystem& RigidBodySystem::operator=(const RigidBodySystem& o) {
+  if (this != &o) d_ = std::make_unique<Data>(*o.d_);
+  return *this;
+}
+RigidBodySystem::RigidBodySystem(RigidBodySystem&&) noexcept = default;
+RigidBodySystem& RigidBodySystem::operator=(RigidBodySystem&&) noexcept = default;
+
+BodyId RigidBodySystem::createBody(const BodySettings& settings) {
+  validate(settings);
+  Data& D = *d_;
+  std::uint32_t index = 0;
+  while (index < D.bodies.size() && D.bodies[index].alive) ++index;
+  if (index == D.bodies.size()) {
+    D.bodies.emplace_back();
+    D.workspaces.emplace_back();
+  }
+  BodyRecord& b = D.bodies[index];
+  const std::uint32_t generation = b.generation;
+  b = BodyRecord{};
+  b.generation = generation;
+  b.alive = true;
+  b.type = settings.type;
+  b.pose = {settings.position, settings.orientation.normalized()};
+  if (settings.type != BodyType::Static) {
+    b.v = settings.linearVelocity;
+    b.w = settings.angularVelocity;
+  }
+  b.linearDamping = settings.linearDamping;
+  b.angularDamping = settings.angularDamping;
+  b.gravityScale = settings.gravityScale;
+  b.maxLinearSpeed = settings.maxLinearSpeed;
+  b.maxAngularSpeed = settings.maxAngularSpeed;
+  b.massOverride = settings.mass;
+  b.inertiaOverride = settings.inertia;
+  b.allowSleep = settings.allowSleep;
+  b.bullet = settings.bullet;
+  b.awake = settings.type != BodyType::Static;
+  b.name = settings.name;
+  D.workspaces[index] = ode::Workspace<Real>{};
+  D.updateMass(b);
+  ++D.liveBodies;
+  return {index, generation};
+}
+
+void RigidBodySystem::destroyBody(BodyId id) {
+  Data& D = *d_;
+  BodyRecord& b = D.body(id);
+  for (std::uint32_t si : b.shapes) {
+    ShapeRecord& s = D.shapes[si];
+    if (s.proxy != DynamicTree::kNull) D.tree.destroyProxy(s.proxy);
+    s.proxy = DynamicTree::kNull;
+    s.alive = false;
+    ++s.generation;
+    D.planes.erase(std::remove(D.planes.begin(), D.planes.end(), si), D.planes.end());
+    D.dropContacts(si);
+  }
+  b.shapes.clear();
+  b.alive = false;
+  ++b.generation;
+  --D.liveBodies;
+}
+
+bool RigidBodySystem::isValid(BodyId id) const { return d_->isValidBody(id); }
+bool RigidBodySystem::isValid(ShapeId id) const { return d_->isValidShape(id); }
+
+ShapeId RigidBodySystem::addShape(BodyId body, const Shape& shape, const Material& material,
+                                  const Transform& local) {
+  return addShape(body, Collider(shape), material, local);
+}
+
+ShapeId RigidBodySystem::addShape(BodyId bodyId, const Collider& collider,
+                                  const Material& material, const Transform& local) {
+  Data& D = *d_;
+  BodyRecord& b = D.body(bodyId);
+  validate(material);
+  require(allFinite(local.p) && allFinite(local.q) && std::abs(local.q.norm() - 1) < Real(1e-3),
+          "RigidBodySystem::addShape: the local transform must be finite with a unit quaternion");
+  const ShapeType type = collider.type();
+  if (type == ShapeType::Plane || type == ShapeType::HeightField)
+    require(b.type == BodyType::Static,
+            std::string("RigidBodySystem::addShape: a ") +
+                (type == ShapeType::Plane ? "plane" : "height field") +
+                " can only be attached to a static body");
+  // Fails (InvalidArgument) for open meshes and other shapes without a volume.
+  if (b.type == BodyType::Dynamic) (void)massProperties(collider.shape(), material.density);
+
+  std::uint32_t index = 0;
+  while (index < D.shapes.size() && D.shapes[index].alive) ++index;
+  if (index == D.shapes.size()) D.shapes.emplace_back();
+  ShapeRecord& s = D.shapes[index];
+  s.alive = true;
+  s.body = bodyId.index;
+  s.collider = collider;
+  s.local = {local.p, local.q.normalized()};
+  s.material = material;
+  s.proxy = DynamicTree::kNull;
+  if (type == ShapeType::Plane) {
+    D.planes.push_back(index);
+  } else {
+    s.proxy = D.tree.createProxy(worldBounds(collider.shape(), D.shapePose(s)), index);
+  }
+  b.shapes.push_back(index);
+  D.updateMass(b);
+  D.wake(b);
+  return {index, s.generation};
+}
+
+void RigidBodySystem::removeShape(ShapeId id) {
+  Data& D = *d_;
+  ShapeRecord& s = D.shape(id);
+  BodyRecord& b = D.bodies[s.body];
+  if (s.proxy != DynamicTree::kNull) D.tree.destroyProxy(s.proxy);
+  s.proxy = DynamicTree::kNull;
+  D.planes.erase(std::remove(D.planes.begin(), D.planes.end(), id.index), D.planes.end());
+  D.dropContacts(id.index);
+  b.shapes.erase(std::remove(b.shapes.begin(), b.shapes.end(), id.index), b.shapes.end());
+  s.alive = false;
+  ++s.generation;
+  D.updateMass(b);
+  D.wake(b);
+}
+
+Transform RigidBodySystem::transform(BodyId id) const { return d_->body(id).pose; }
+Vec3 RigidBodySystem::centerOfMass(BodyId id) const { return d_->body(id).com; }
+Vec3 RigidBodySystem::linearVelocity(BodyId id) const { return d_->body(id).v; }
+Vec3 RigidBodySystem::angularVelocity(BodyId id) const { return d_->body(id).w; }
+Real RigidBodySystem::mass(BodyId id) const { return d_->body(id).mass; }
+Mat3 RigidBodySystem::inertiaWorld(BodyId id) const {
+  const BodyRecord& b = d_->body(id);
+  const Mat3 R = b.pose.q.toRotationMatrix();
+  return R * b.inertiaLocal * R.transpose();
+}
+BodyType RigidBodySystem::type(BodyId id) const { return d_->body(id).type; }
+std::string_view RigidBodySystem::name(BodyId id) const { return d_->body(id).name; }
+bool RigidBodySystem::isAwake(BodyId id) const { return d_->body(id).awake; }
+BodyId RigidBodySystem::body(ShapeId id) const { return d_->bodyId(d_->shape(id).body); }
+
+void RigidBodySystem::setTransform(BodyId id, const Transform& pose) {
+  require(allFinite(pose.p) && allFinite(pose.q) && pose.q.norm() > Real(1e-6),
+          "RigidBodySystem::setTransform: the pose must be finite with a non-zero quaternion");
+  Data& D = *d_;
+  BodyRecord& b = D.body(id);
+  b.pose = {pose.p, pose.q.normalized()};
+  b.com = b.pose.apply(b.localCom);
+  b.wasFree = false;
+  D.refreshProxies(b);
+  D.wake(b);
+}
+
+void RigidBodySystem::setLinearVelocity(BodyId id, const Vec3& v) {
+  require(allFinite(v), "RigidBodySystem::setLinearVelocity: the velocity must be finite");
+  BodyRecord& b = d_->body(id);
+  if (b.type == BodyType::Static) return;
+  b.v = v;
+  d_->wake(b);
+}
+
+void RigidBodySystem::setAngularVelocity(BodyId id, const Vec3& w) {
+  require(allFinite(w), "RigidBodySystem::setAngularVelocity: the velocity must be finite");
+  BodyRecord& b = d_->body(id);
+  if (b.type == BodyType::Static) return;
+  b.w = w;
+  b.wasFree = false;
+  d_->wake(b);
+}
+
+void RigidBodySystem::moveKinematic(BodyId id, const Transform& target, Real dt) {
+  require(std::isfinite(dt) && dt > 0, "RigidBodySystem::moveKinematic: dt must be finite and > 0");
+  require(allFinite(target.p) && allFinite(target.q) && target.q.norm() > Real(1e-6),
+          "RigidBodySystem::moveKinematic: the target must be finite");
+  BodyRecord& b = d_->body(id);
+  require(b.type == BodyType::Kinematic, "RigidBodySystem::moveKinematic: the body is not kinematic");
+  const Quat q = target.q.normalized();
+  const Vec3 targetCom = target.p + q * b.localCom;
+  b.v = (targetCom - b.com) / dt;
+  b.w = rotationVector(q * b.pose.q.conjugate()) / dt;
+  d_->wake(b);
+}
+
+void RigidBodySystem::applyForce(BodyId id, const Vec3& f, const Vec3& point) {
+  require(allFinite(f) && allFinite(point), "RigidBodySystem::applyForce: force and point must be finite");
+  BodyRecord& b = d_->body(id);
+  if (b.type != BodyType::Dynamic) return;
+  b.force += f;
+  b.torque += (point - b.com).cross(f);
+  d_->wake(b);
+}
+
+void RigidBodySystem::applyForceAtCenter(BodyId id, const Vec3& f) {
+  applyForce(id, f, d_->body(id).com);
+}
+
+void RigidBodySystem::applyTorque(BodyId id, const Vec3& t) {
+  require(allFinite(t), "RigidBodySystem::applyTorque: the torque must be finite");
+  BodyRecord& b = d_->body(id);
+  if (b.type != BodyType::Dynamic) return;
+  b.torque += t;
+  d_->wake(b);
+}
+
+void RigidBodySystem::applyImpulse(BodyId id, const Vec3& J, const Vec3& point) {
+  require(allFinite(J) && allFinite(point), "RigidBodySystem::applyImpulse: impulse and point must be finite");
+  BodyRecord& b = d_->body(id);
+  if (b.type != BodyType::Dynamic) return;
+  b.v += b.invMass * J;
+  b.w += b.invInertiaWorld() * (point - b.com).cross(J);
+  b.wasFree = false;
+  d_->wake(b);
+}
+
+void RigidBodySystem::applyAngularImpulse(BodyId id, const Vec3& L) {
+  require(allFinite(L), "RigidBodySystem::applyAngularImpulse: the impulse must be finite");
+  BodyRecord& b = d_->body(id);
+  if (b.type != BodyType::Dynamic) return;
+  b.w += b.invInertiaWorld() * L;
+  b.wasFree = false;
+  d_->wake(b);
+}
+
+void RigidBodySystem::wake(BodyId id) { d_->wake(d_->body(id)); }
+
+int RigidBodySystem::bodyCount() const { return d_->liveBodies; }
+
+int RigidBodySystem::contactCount() const {
+  int n = 0;
+  for (const ContactExtra& e : d_->extras) n += e.touching ? 1 : 0;
+  return n;
+}
+
+std::vector<BodyId> RigidBodySystem::bodies() const {
+  std::vector<BodyId> ids;
+  for (std::uint32_t i = 0; i < d_->bodies.size(); ++i)
+    if (d_->bodies[i].alive) ids.push_back(d_->bodyId(i));
+  return ids;
+}
+
+std::vector<ShapeId> RigidBodySystem::shapes(BodyId id) const {
+  std::vector<ShapeId> ids;
+  for (std::uint32_t si : d_->body(id).shapes) ids.push_back(d_->shapeId(si));
+  return ids;
+}
+
+const Collider& RigidBodySystem::collider(ShapeId id) const { return d_->shape(id).collider; }
+Transform RigidBodySystem::shapeTransform(ShapeId id) const {
+  return d_->shapePose(d_->shape(id));
+}
+const Material& RigidBodySystem::material(ShapeId id) const { return d_->shape(id).material; }
+const std::vector<ContactInfo>& RigidBodySystem::contacts() const { return d_->contacts; }
+const std::vector<ContactEvent>& RigidBodySystem::beginEvents() const { return d_->beginEvents; }
+const std::vector<ContactEvent>& RigidBodySystem::endEvents() const { return d_->endEvents; }
+const DynamicsTimes& RigidBodySystem::times() const { return d_->times; }
+
+std::optional<WorldRayHit> RigidBodySystem::castRay(const Ray& ray) const {
+  const Data& D = *d_;
+  std::optional<WorldRayHit> best;
+  auto consider = [&](std::uint32_t si, Real maxFraction) {
+    const ShapeRecord& s = D.shapes[si];
+    Ray clipped = ray;
+    clipped.maxFraction = maxFraction;
+    if (auto hit = inertia::castRay(s.collider, D.shapePose(s), clipped)) {
+      // Ties go to the lower shape index, so the answer does not depend on the tree's shape.
+      if (!best || hit->fraction < best->hit.fraction ||
+          (hit->fraction == best->hit.fraction && si < best->shape.index)) {
+        best = WorldRayHit{D.bodyId(s.body), D.shapeId(si), *hit};
+      }
+    }
+  };
+  for (std::uint32_t si : D.planes) consider(si, ray.maxFraction);
+  D.tree.rayCast(ray, [&](int proxy, Real maxFraction) -> Real {
+    const Real limit = best ? std::min(maxFraction, best->hit.fraction) : maxFraction;
+    consider(D.tree.userData(proxy), limit);
+    return -1;  // keep going; `limit` already clips the exact tests
+  });
+  return best;
+}
+
+Real RigidBodySystem::kineticEnergy() const {
+  Real e = 0;
+  for (const BodyRecord& b : d_->bodies) {
+    if (!b.alive || b.type != BodyType::Dynamic) continue;
+    const Mat3 R = b.pose.q.toRotationMatrix();
+    e += Real(0.5) * b.mass * b.v.squaredNorm() +
+         Real(0.5) * b.w.dot(R * b.inertiaLocal * R.transpose() * b.w);
+  }
+  return e;
+}
+
+Vec3 RigidBodySystem::linearMomentum() const {
+  Vec3 p = Vec3::Zero();
+  for (const BodyRecord& b : d_->bodies)
+    if (b.alive && b.type == BodyType::Dynamic) p += b.mass * b.v;
+  return p;
+}
+
+Vec3 RigidBodySystem::angularMomentum(const Vec3& about) const {
+  Vec3 L = Vec3::Zero();
+  for (const BodyRecord& b : d_->bodies) {
+    if (!b.alive || b.type != BodyType::Dynamic) continue;
+    const Mat3 R = b.pose.q.toRotationMatrix();
+    L += R * b.inertiaLocal * R.transpose() * b.w + (b.com - about).cross(b.mass * b.v);
+  }
+  return L;
+}
+
+namespace {
+
+// How far a body may move in a step (m): translation plus rotation of its farthest point.
+Real motionBound(const BodyRecord& b, Real dt) {
+  return (b.v.norm() + b.w.norm() * b.extent) * dt;
+}
+
+bool isBullet(const BodyRecord& b, Real dt, const ContactTuning& tuning) {
+  if (b.type == BodyType::Static) return false;
+  return b.bullet || motionBound(b, dt) > tuning.bulletFraction * b.minExtent;
+}
+
+std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t i) {
+  while (parent[i] != i) {
+    parent[i] = parent[parent[i]];
+    i = parent[i];
+  }
+  return i;
+}
+
+}  // namespace
+
+void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* /*arena*/) {
+  require(std::isfinite(dt) && dt > 0, "RigidBodySystem::step: dt must be finite and > 0 (s)");
+  require(s.solver.type == SolverType::SoftStep || s.solver.type == SolverType::Pgs,
+          std::string("RigidBodySystem::step: the ") + std::string(solverName(s.solver.type)) +
+              " solver is not built yet (use soft_step or pgs)");
+  using Clock = std::chrono::steady_clock;
+  Data& D = *d_;
+  const ContactTuning& tuning = s.contact;
+  const std::uint32_t bodyCount = static_cast<std::uint32_t>(D.bodies.size());
+  D.beginEvents.clear();
+  D.endEvents.clear();
+
+  // 1. Broad phase.
+  auto t0 = Clock::now();
+  D.moved.clear();
+  for (std::uint32_t bi = 0; bi < bodyCount; ++bi) {
+    BodyRecord& b = D.bodies[bi];
+    if (!b.alive || b.type == BodyType::Static || !b.awake) continue;
+    const bool bullet = isBullet(b, dt, tuning);
+    const Vec3 displacement = b.v * dt;
+    for (std::uint32_t si : b.shapes) {
+      ShapeRecord& sh = D.shapes[si];
+      if (sh.proxy == DynamicTree::kNull) continue;
+      Aabb box = worldBounds(sh.collider.shape(), D.shapePose(sh));
+      if (bullet) {
+        // Swept over the step, so a fast body meets what lies in its path.
+        const Real spin = b.w.norm() * b.extent * dt;
+        box = box.merged({box.lower + displacement, box.upper + displacement}).inflated(spin);
+      }
+      D.tree.moveProxy(sh.proxy, box.inflated(tuning.speculativeDistance), displacement);
+      D.moved.push_back(sh.proxy);
+    }
+  }
+  D.tree.computePairs(D.moved, D.proxyPairs);
+  D.pairs.clear();
+  auto addPair = [&](std::uint32_t a, std::uint32_t b) {
+    if (a > b) std::swap(a, b);
+    const BodyRecord& ba = D.bodies[D.shapes[a].body];
+    const BodyRecord& bb = D.bodies[D.shapes[b].body];
+    if (D.shapes[a].body == D.shapes[b].body) return;
+    if (ba.type != BodyType::Dynamic && bb.type != BodyType::Dynamic) return;
+    if (!ba.awake && !bb.awake) return;
+    D.pairs.emplace_back(a, b);
+  };
+  for (const auto& [p, q] : D.proxyPairs) addPair(D.tree.userData(p), D.tree.userData(q));
+  for (std::uint32_t plane : D.planes) {
+    const Plane& pl = *D.shapes[plane].collider.shape().getIf<Plane>();
+    const Transform planePose = D.shapePose(D.shapes[plane]);
+    const Vec3 n = planePose.rotate(pl.normal);
+    const Real offset = pl.offset + n.dot(planePose.p);
+    for (int proxy : D.moved) {
+      const Aabb& fat = D.tree.fatAabb(proxy);
+      const Vec3 c = Real(0.5) * (fat.lower + fat.upper);
+      const Vec3 e = Real(0.5) * (fat.upper - fat.lower);
+      if (n.dot(c) - offset - n.cwiseAbs().dot(e) <= 0) addPair(plane, D.tree.userData(proxy));
+    }
+  }
+  std::sort(D.pairs.begin(), D.pairs.end());
+  D.pairs.erase(std::unique(D.pairs.begin(), D.pairs.end()), D.pairs.end());
+  auto t1 = Clock::now();
+  D.times.broadPhase += std::chrono::duration<double>(t1 - t0).count();
+
+  // 2. Narrow phase.
+  std::swap(D.previous, D.contacts);
+  std::swap(D.previousExtras, D.extras);
+  D.contacts.clear();
+  D.extras.clear();
+  for (const auto& [a, b] : D.pairs) {
+    const ShapeRecord& sa = D.shapes[a];
+    const ShapeRecord& sb = D.shapes[b];
+    const BodyRecord& ba = D.bodies[sa.body];
+    const BodyRecord& bb = D.bodies[sb.body];
+    ContactSettings cs;
+    cs.speculativeDistance = tuning.speculativeDistance;
+    if (isBullet(ba, dt, tuning) || isBullet(bb, dt, tuning))
+      cs.speculativeDistance += ((bb.v - ba.v).norm() + ba.w.norm() * ba.extent +
+                                 bb.w.norm() * bb.extent) * dt;
+    D.manifolds.clear();
+    collide(sa.collider, D.shapePose(sa), sb.collider, D.shapePose(sb), cs, D.manifolds);
+    for (const ContactManifold& m : D.manifolds) {
+      if (m.pointCount == 0) continue;
+      ContactInfo info;
+      info.bodyA = D.bodyId(sa.body);
+      info.bodyB = D.bodyId(sb.body);
+      info.shapeA = D.shapeId(a);
+      info.shapeB = D.shapeId(b);
+      info.manifold = m;
+      D.contacts.push_back(info);
+      D.extras.emplace_back();
+    }
+  }
+  // Contacts between bodies that did not move (asleep or static) keep last step's state.
+  for (std::size_t i = 0; i < D.previous.size(); ++i) {
+    const ContactInfo& c = D.previous[i];
+    if (!D.isValidShape(c.shapeA) || !D.isValidShape(c.shapeB)) continue;
+    const BodyRecord& ba = D.bodies[c.bodyA.index];
+    const BodyRecord& bb = D.bodies[c.bodyB.index];
+    if (ba.awake || bb.awake) continue;
+    D.contacts.push_back(c);
+    D.extras.push_back(D.previousExtras[i]);
+  }
+  // A deterministic order: by shapes, then sub-shapes.
+  D.order.resize(D.contacts.size());
+  std::iota(D.order.begin(), D.order.end(), 0u);
+  std::stable_sort(D.order.begin(), D.order.end(), [&](std::uint32_t x, std::uint32_t y) {
+    return contactKey(D.contacts[x]) < contactKey(D.contacts[y]);
+  });
+  {
+    std::vector<ContactInfo> sorted;
+    std::vector<ContactExtra> sortedExtras;
+    sorted.reserve(D.order.size());
+    sortedExtras.reserve(D.order.size());
+    for (std::uint32_t i : D.order) {
+      sorted.push_back(D.contacts[i]);
+      sortedExtras.push_back(D.extras[i]);
+    }
+    D.contacts.swap(sorted);
+    D.extras.swap(sortedExtras);
+  }
+  // Warm start: match each point to last step's by (shapes, sub-shapes, feature id).
+  for (std::size_t i = 0; i < D.contacts.size(); ++i) {
+    ContactInfo& c = D.contacts[i];
+    ContactExtra& e = D.extras[i];
+    e.touching = false;
+    for (int k = 0; k < c.manifold.pointCount; ++k)
+      e.touching = e.touching || c.manifold.points[k].separation <= tuning.linearSlop;
+    const auto key = contactKey(c);
+    auto it = std::lower_bound(D.previous.begin(), D.previous.end(), key,
+                               [](const ContactInfo& p, const auto& k) { return contactKey(p) < k; });
+    if (it == D.previous.end() || contactKey(*it) != key || it->bodyA != c.bodyA) continue;
+    const ContactExtra& pe = D.previousExtras[static_cast<std::size_t>(it - D.previous.begin())];
+    bool carried = false;
+    for (int k = 0; k < c.manifold.pointCount; ++k) {
+      for (int j = 0; j < it->manifold.pointCount; ++j) {
+        if (it->manifold.points[j].id != c.manifold.points[k].id) continue;
+        c.normalImpulses[k] = it->normalImpulses[j];
+        e.tangentImpulse[k] = pe.tangentImpulse[j];
+        carried = true;
+      }
+    }
+    if (carried) e.angularImpulse = pe.angularImpulse;
+  }
+  auto t2 = Clock::now();
+  D.times.narrowPhase += std::chrono::duration<double>(t2 - t1).count();
+
+  // 3. Islands: union-find over contacts between dynamic bodies; one awake body (or a moving
+  // kinematic body touching it) keeps its whole island awake.
+  D.island.resize(bodyCount);
+  std::iota(D.island.begin(), D.island.end(), 0u);
+  D.islandAwake.assign(bodyCount, 0);
+  for (const ContactInfo& c : D.contacts) {
+    const BodyRecord& ba = D.bodies[c.bodyA.index];
+    const BodyRecord& bb = D.bodies[c.bodyB.index];
+    if (ba.type == BodyType::Dynamic && bb.type == BodyType::Dynamic) {
+      const std::uint32_t ra = findRoot(D.island, c.bodyA.index);
+      const std::uint32_t rb = findRoot(D.island, c.bodyB.index);
+      if (ra != rb) D.island[std::max(ra, rb)] = std::min(ra, rb);
+    }
+  }
+  for (std::uint32_t bi = 0; bi < bodyCount; ++bi) {
+    const BodyRecord& b = D.bodies[bi];
+    if (b.alive && b.type == BodyType::Dynamic && b.awake) D.islandAwake[findRoot(D.island, bi)] = 1;
+  }
+  for (const ContactInfo& c : D.contacts) {
+    const BodyRecord& ba = D.bodies[c.bodyA.index];
+    const BodyRecord& bb = D.bodies[c.bodyB.index];
+    auto moving = [](const BodyRecord& k) {
+      return k.type == BodyType::Kinematic && k.awake && (!k.v.isZero() || !k.w.isZero());
+    };
+    if (moving(ba) && bb.type == BodyType::Dynamic) D.islandAwake[findRoot(D.island, c.bodyB.index)] = 1;
+    if (moving(bb) && ba.type == BodyType::Dynamic) D.islandAwake[findRoot(D.island, c.bodyA.index)] = 1;
+  }
+  for (std::uint32_t bi = 0; bi < bodyCount; ++bi) {
+    BodyRecord& b = D.bodies[bi];
+    if (!b.alive || b.type != BodyType::Dynamic || b.awake) continue;
+    if (D.islandAwake[findRoot(D.island, bi)]) D.wake(b);
+  }
+
+  // 4. Solver bodies: awake dynamic and kinematic bodies in a contact; the rest fly free.
+  D.solverIndex.assign(bodyCount, -1);
+  D.solverBodies.clear();
+  D.solverToBody.clear();
+  D.startRotation.clear();
+  D.startCom.clear();
+  auto solverSlot = [&](std::uint32_t bi) -> int {
+    BodyRecord& b = D.bodies[bi];
+    if (b.type == BodyType::Static) return -1;
+    if (D.solverIndex[bi] < 0) {
+      D.solverIndex[bi] = static_cast<int>(D.solverBodies.size());
+      SolverBody sb;
+      sb.v = b.v;
+      sb.w = b.w;
+      sb.invMass = b.invMass;
+      sb.invInertia = b.invInertiaWorld();
+      D.solverBodies.push_back(sb);
+      D.solverToBody.push_back(bi);
+      D.startRotation.push_back(b.pose.q);
+      D.startCom.push_back(b.com);
+    }
+    return D.solverIndex[bi];
+  };
+  D.constraints.clear();
+  const Real h = dt / Real(s.substeps);
+  const Real hertz = std::min(tuning.hertz, Real(0.25) / h);
+  const detail::Softness soft = detail::makeSoft(hertz, tuning.dampingRatio, h);
+  const detail::Softness staticSoft = detail::makeSoft(2 * hertz, tuning.dampingRatio, h);
+  for (std::size_t ci = 0; ci < D.contacts.size(); ++ci) {
+    ContactInfo& info = D.contacts[ci];
+    const BodyRecord& ba = D.bodies[info.bodyA.index];
+    const BodyRecord& bb = D.bodies[info.bodyB.index];
+    const bool aActive = ba.type == BodyType::Dynamic && ba.awake;
+    const bool bActive = bb.type == BodyType::Dynamic && bb.awake;
+    if (!aActive && !bActive) continue;
+    ContactConstraint c;
+    c.contactIndex = static_cast<int>(ci);
+    c.bodyA = solverSlot(info.bodyA.index);
+    c.bodyB = solverSlot(info.bodyB.index);
+    const Material& ma = D.shapes[info.shapeA.index].material;
+    const Material& mb = D.shapes[info.shapeB.index].material;
+    const Real staticFriction = combine(s.combine.friction, ma.friction, mb.friction);
+    const Real slidingFriction = combine(s.combine.friction, ma.sliding(), mb.sliding());
+    c.restitution = combine(s.combine.restitution, ma.restitution, mb.restitution);
+    c.rolling = combine(s.combine.rollingFriction, ma.rollingFriction, mb.rollingFriction);
+    c.spinning = combine(s.combine.spinningFriction, ma.spinningFriction, mb.spinningFriction);
+    c.softness = (ba.invMass == 0 || bb.invMass == 0) ? staticSoft : soft;
+    c.normal = info.manifold.normal;
+    c.pointCount = info.manifold.pointCount;
+    // Friction axes: along the sliding direction when sliding (as Jolt does), so the disc
+    // clamp of the two rows' impulse opposes the sliding velocity even though the rows'
+    // effective masses differ; otherwise a basis of the normal alone.
+    Vec3 slip = Vec3::Zero();
+    for (int k = 0; k < c.pointCount; ++k) {
+      const ContactPoint& cp = info.manifold.points[static_cast<std::size_t>(k)];
+      const Vec3 mid = Real(0.5) * (cp.pointA + cp.pointB);
+      slip += bb.v + bb.w.cross(mid - bb.com) - ba.v - ba.w.cross(mid - ba.com);
+    }
+    slip -= slip.dot(c.normal) * c.normal;
+    const Real slipNorm = slip.norm() / Real(c.pointCount);
+    if (slipNorm > kStickSpeed) {
+      c.tangent[0] = slip.normalized();
+      c.tangent[1] = c.normal.cross(c.tangent[0]);
+    } else {
+      c.tangent = detail::tangentBasis(c.normal);
+    }
+    const ContactExtra& extra = D.extras[ci];
+    Real tangentialSpeed = 0;
+    for (int k = 0; k < c.pointCount; ++k) {
+      const ContactPoint& cp = info.manifold.points[static_cast<std::size_t>(k)];
+      detail::ConstraintPoint& p = c.points[static_cast<std::size_t>(k)];
+      const Vec3 mid = Real(0.5) * (cp.pointA + cp.pointB);
+      p.rA = mid - ba.com;
+      p.rB = mid - bb.com;
+      p.adjustedSeparation = cp.separation - (p.rB - p.rA).dot(c.normal);
+      p.normalImpulse = info.normalImpulses[static_cast<std::size_t>(k)];
+      for (int t = 0; t < 2; ++t)
+        p.tangentImpulse[t] = extra.tangentImpulse[static_cast<std::size_t>(k)].dot(c.tangent[t]);
+      const Vec3 dv = bb.v + bb.w.cross(p.rB) - ba.v - ba.w.cross(p.rA);
+      p.relativeVelocity = dv.dot(c.normal);
+      tangentialSpeed = std::max(tangentialSpeed, (dv - p.relativeVelocity * c.normal).norm());
+    }
+    c.friction = tangentialSpeed < kStickSpeed ? staticFriction : slidingFriction;
+    for (int t = 0; t < 2; ++t) c.rollingImpulse[t] = extra.angularImpulse.dot(c.tangent[t]);
+    c.spinningImpulse = extra.angularImpulse.dot(c.normal);
+    D.constraints.push_back(c);
+  }
+  for (ContactConstraint& c : D.constraints) {
+    const SolverBody none{};
+    const SolverBody& a = c.bodyA >= 0 ? D.solverBodies[static_cast<std::size_t>(c.bodyA)] : none;
+    const SolverBody& b = c.bodyB >= 0 ? D.solverBodies[static_cast<std::size_t>(c.bodyB)] : none;
+    detail::computeMasses(c, a, b);
+  }
+  auto t3 = Clock::now();
+  D.times.narrowPhase += std::chrono::duration<double>(t3 - t2).count();
+
+  // 5. Substeps.
+  const bool softStep = s.solver.type == SolverType::SoftStep;
+  detail::BiasMode mode;
+  mode.soft = softStep;
+  mode.invH = 1 / h;
+  mode.pushVelocity = tuning.pushVelocity;
+  mode.baumgarte = tuning.baumgarte;
+  mode.linearSlop = tuning.linearSlop;
+  detail::BiasMode relax = mode;
+  relax.useBias = false;
+  double integrationTime = 0;
+  for (int sub = 0; sub < s.substeps; ++sub) {
+    auto ti = Clock::now();
+    // Velocities of the constrained bodies: gravity, forces, damping, implicit gyroscopic term.
+    for (std::size_t k = 0; k < D.solverBodies.size(); ++k) {
+      const BodyRecord& b = D.bodies[D.solverToBody[k]];
+      SolverBody& sb = D.solverBodies[k];
+      if (b.type != BodyType::Dynamic) continue;
+      sb.v += h * (b.gravityScale * s.gravity + b.invMass * b.force);
+      sb.v *= 1 / (1 + h * b.linearDamping);
+      const Quat q = (sb.dq * D.startRotation[k]).normalized();
+      sb.w += h * (sb.invInertia * b.torque);
+      sb.w = detail::implicitGyroscopic(q, b.inertiaLocal, sb.w, h);
+      sb.w *= 1 / (1 + h * b.angularDamping);
+    }
+    integrationTime += std::chrono::duration<double>(Clock::now() - ti).count();
+    detail::updateApproach(D.constraints, D.solverBodies);
+    detail::warmStart(D.constraints, D.solverBodies);
+    for (int it = 0; it < s.solver.iterations; ++it)
+      detail::solve(D.constraints, D.solverBodies, mode);
+    ti = Clock::now();
+    for (std::size_t k = 0; k < D.solverBodies.size(); ++k) {
+      const BodyRecord& b = D.bodies[D.solverToBody[k]];
+      SolverBody& sb = D.solverBodies[k];
+      const Real vn = sb.v.norm();
+      if (vn > b.maxLinearSpeed) sb.v *= b.maxLinearSpeed / vn;
+      const Real wn = sb.w.norm();
+      if (wn > b.maxAngularSpeed) sb.w *= b.maxAngularSpeed / wn;
+      sb.dp += h * sb.v;
+      sb.dq = integrateRotation(sb.dq, sb.w, h);
+    }
+    integrationTime += std::chrono::duration<double>(Clock::now() - ti).count();
+    if (softStep)
+      for (int it = 0; it < s.solver.iterations; ++it)
+        detail::solve(D.constraints, D.solverBodies, relax);
+  }
+  detail::applyRestitution(D.constraints, D.solverBodies, tuning.restitutionThreshold);
+
+  // Store the impulses for the next step's warm start and for the user.
+  for (const ContactConstraint& c : D.constraints) {
+    ContactInfo& info = D.contacts[static_cast<std::size_t>(c.contactIndex)];
+    ContactExtra& extra = D.extras[static_cast<std::size_t>(c.contactIndex)];
+    // A contact that pushed during the step touched, even if it began speculative; its
+    // approach speed is the one measured just before the impact (updateApproach).
+    extra.approach = 0;
+    for (int k = 0; k < c.pointCount; ++k) {
+      const detail::ConstraintPoint& p = c.points[static_cast<std::size_t>(k)];
+      if (p.maxNormalImpulse > 0) extra.touching = true;
+      extra.approach = std::max(extra.approach, -p.relativeVelocity);
+      info.normalImpulses[static_cast<std::size_t>(k)] = p.normalImpulse;
+      extra.tangentImpulse[static_cast<std::size_t>(k)] =
+          p.tangentImpulse[0] * c.tangent[0] + p.tangentImpulse[1] * c.tangent[1];
+    }
+    extra.angularImpulse = c.rollingImpulse[0] * c.tangent[0] + c.rollingImpulse[1] * c.tangent[1] +
+                           c.spinningImpulse * c.normal;
+  }
+  auto t4 = Clock::now();
+  D.times.solver += std::chrono::duration<double>(t4 - t3).count() - integrationTime;
+
+  // 6. Finalise: write back the solver's motion; free bodies fly with the chosen method.
+  const Real sleepSpeed = tuning.sleepSpeed;
+  for (std::uint32_t bi = 0; bi < bodyCount; ++bi) {
+    BodyRecord& b = D.bodies[bi];
+    if (!b.alive || b.type == BodyType::Static || !b.awake) continue;
+    const int k = D.solverIndex[bi];
+    if (k >= 0) {
+      const SolverBody& sb = D.solverBodies[static_cast<std::size_t>(k)];
+      b.v = sb.v;
+      b.w = sb.w;
+      b.com = D.startCom[static_cast<std::size_t>(k)] + sb.dp;
+      b.pose.q = (sb.dq * D.startRotation[static_cast<std::size_t>(k)]).normalized();
+      b.wasFree = false;
+    } else if (b.type == BodyType::Kinematic) {
+      b.com += dt * b.v;
+      b.pose.q = integrateRotationExact(b.pose.q, b.w, dt);
+    } else {
+      // Free flight: the linear motion by the world's ode method (exact for constant
+      // acceleration with rk4 or velocity Verlet), the rotation by the momentum-conserving
+      // splitting.
+      const Vec3 accel = b.gravityScale * s.gravity + b.invMass * b.force;
+      const Real c = b.linearDamping;
+      auto a = [&](Real, const auto&, const auto& v, auto out) { out = accel - c * Vec3(v); };
+      auto dadv = [c](Real, const auto&, const auto&, const auto& dir, auto out) {
+        out = -c * dir;
+      };
+      ode::SecondOrderSystem system{a, ode::ZeroJacobian{}, dadv};
+      ode::Workspace<Real>& ws = D.workspaces[bi];
+      if (!b.wasFree) ws.resetHistory();
+      Vec3 x = b.com;
+      Vec3 v = b.v;
+      // Carried from step to step while the body flies free, so that rounding in the
+      // conversions between w and L does not accumulate.
+      const Mat3 R = b.pose.q.toRotationMatrix();
+      Vec3 L = b.wasFree ? b.momentum : Vec3(R * b.inertiaLocal * R.transpose() * b.w);
+      Quat principal = b.pose.q * b.principalAxes;
+      for (int sub = 0; sub < s.substeps; ++sub) {
+        ode::step(s.integrator, system, Real(0), h, x, v, ws);
+        L += h * b.torque;
+        L *= 1 / (1 + h * b.angularDamping);
+        detail::splitFreeRotation(principal, b.principalMoments, L, h);
+      }
+      b.com = x;
+      b.v = v;
+      b.pose.q = (principal * b.principalAxes.conjugate()).normalized();
+      const Vec3 Lb = principal.conjugate() * L;
+      b.w = principal * Vec3(Lb.array() / b.principalMoments.array());
+      b.momentum = L;
+      b.wasFree = true;
+      const Real vn = b.v.norm();
+      if (vn > b.maxLinearSpeed) b.v *= b.maxLinearSpeed / vn;
+      const Real wn = b.w.norm();
+      if (wn > b.maxAngularSpeed) {
+        b.w *= b.maxAngularSpeed / wn;
+        b.wasFree = false;
+      }
+    }
+    b.pose.p = b.com - b.pose.q * b.localCom;
+    b.force.setZero();
+    b.torque.setZero();
+    // Sleep timers: the speed of the farthest point bounds how fast anything on the body moves.
+    const Real speed = std::max(b.v.norm(), b.w.norm() * b.extent);
+    if (!s.sleeping || !b.allowSleep || b.type == BodyType::Kinematic || speed > sleepSpeed)
+      b.sleepTime = 0;
+    else
+      b.sleepTime += dt;
+  }
+  // Islands whose every body has rested long enough fall asleep together.
+  if (s.sleeping) {
+    D.islandSleep.assign(bodyCount, std::numeric_limits<Real>::infinity());
+    for (std::uint32_t bi = 0; bi < bodyCount; ++bi) {
+      const BodyRecord& b = D.bodies[bi];
+      if (!b.alive || b.type != BodyType::Dynamic) continue;
+      Real& m = D.islandSleep[findRoot(D.island, bi)];
+      m = std::min(m, b.sleepTime);
+    }
+    for (const ContactInfo& c : D.contacts) {  // touching a moving kinematic body: stay awake
+      for (auto [k, o] : {std::pair{c.bodyA.index, c.bodyB.index}, std::pair{c.bodyB.index, c.bodyA.index}}) {
+        const BodyRecord& kin = D.bodies[k];
+        if (kin.type == BodyType::Kinematic && (!kin.v.isZero() || !kin.w.isZero()) &&
+            D.bodies[o].type == BodyType::Dynamic)
+          D.islandSleep[findRoot(D.island, o)] = 0;
+      }
+    }
+    for (std::uint32_t bi = 0; bi < bodyCount; ++bi) {
+      BodyRecord& b = D.bodies[bi];
+      if (!b.alive || b.type != BodyType::Dynamic || !b.awake) continue;
+      if (D.islandSleep[findRoot(D.island, bi)] >= tuning.timeToSleep) {
+        b.awake = false;
+        b.v.setZero();
+        b.w.setZero();
+      }
+    }
+  }
+  for (std::uint32_t bi = 0; bi < bodyCount; ++bi) {
+    BodyRecord& b = D.bodies[bi];
+    if (b.alive && b.type == BodyType::Kinematic)
+      b.awake = !b.v.isZero() || !b.w.isZero();
+  }
+  auto t5 = Clock::now();
+  D.times.integration += std::chrono::duration<double>(t5 - t4).count() + integrationTime;
+
+  // 7. Contact events: pairs of shapes touching now and not before, and the reverse.
+  auto touchingPairs = [](const std::vector<ContactInfo>& cs, const std::vector<ContactExtra>& es,
+                          std::vector<std::size_t>& out) {
+    out.clear();
+    for (std::size_t i = 0; i < cs.size(); ++i) {
+      if (!es[i].touching) continue;
+      if (!out.empty() && cs[out.back()].shapeA == cs[i].shapeA && cs[out.back()].shapeB == cs[i].shapeB)
+        continue;
+      out.push_back(i);
+    }
+  };
+  std::vector<std::size_t> now, before;
+  touchingPairs(D.contacts, D.extras, now);
+  touchingPairs(D.previous, D.previousExtras, before);
+  auto pairOf = [](const ContactInfo& c) { return pairKey(c.shapeA.index, c.shapeB.index); };
+  auto event = [&](const ContactInfo& c, Real approach) {
+    ContactEvent e;
+    e.bodyA = c.bodyA;
+    e.bodyB = c.bodyB;
+    e.shapeA = c.shapeA;
+    e.shapeB = c.shapeB;
+    e.normal = c.manifold.normal;
+    const ContactPoint& p = c.manifold.points[0];
+    e.point = Real(0.5) * (p.pointA + p.pointB);
+    e.approachSpeed = approach;
+    return e;
+  };
+  std::size_t i = 0, j = 0;
+  while (i < now.size() || j < before.size()) {
+    const std::uint64_t a = i < now.size() ? pairOf(D.contacts[now[i]]) : ~std::uint64_t(0);
+    const std::uint64_t b = j < before.size() ? pairOf(D.previous[before[j]]) : ~std::uint64_t(0);
+    if (a == b) {
+      ++i;
+      ++j;
+    } else if (a < b) {
+      D.beginEvents.push_back(event(D.contacts[now[i]], D.extras[now[i]].approach));
+      ++i;
+    } else {
+      const ContactInfo& c = D.previous[before[j]];
+      if (D.isValidShape(c.shapeA) && D.isValidShape(c.shapeB)) D.endEvents.push_back(event(c, 0));
+      ++j;
+    }
+  }
+}
+
+}  // namespace inertia
