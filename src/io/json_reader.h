@@ -25,6 +25,8 @@ class Node {
 
   const Json& json() const { return *value_; }
   const Pointer& pointer() const { return pointer_; }
+  /// The file the value was read from (as named to the loader).
+  const std::string& file() const { return *file_; }
 
   [[noreturn]] void fail(const std::string& reason) const;
 

@@ -1,11 +1,13 @@
 #include "shape_reader.h"
 
+#include <filesystem>
 #include <vector>
 
 #include "inertia/core/error.h"
 #include "inertia/geometry/height_field.h"
 #include "inertia/geometry/hull.h"
 #include "inertia/geometry/mesh.h"
+#include "inertia/io/obj.h"
 
 namespace inertia::io::detail {
 
@@ -100,7 +102,23 @@ Shape readShape(const Node& n, Transform& pose, std::initializer_list<std::strin
       return Shape(Compound(std::move(children)));
     }
     if (type == "mesh") {
-      check({"vertices", "triangles"});
+      check({"vertices", "triangles", "obj"});
+      if (n.has("obj")) {
+        if (n.has("vertices") || n.has("triangles"))
+          n.fail("a mesh takes \"obj\" or \"vertices\" and \"triangles\", not both");
+        const Node obj = n.at("obj");
+        const std::filesystem::path relative = obj.string();
+        if (relative.empty()) obj.fail("empty OBJ path");
+        // Relative to the scene file's directory (DESIGN.md section 4).
+        const std::filesystem::path path =
+            relative.is_absolute() ? relative
+                                   : std::filesystem::path(n.file()).parent_path() / relative;
+        try {
+          return Shape(loadObj(path));
+        } catch (const ObjError& e) {
+          obj.fail(std::string("cannot load OBJ: ") + e.what());
+        }
+      }
       std::vector<Vec3> vertices = readPoints(n.at("vertices"));
       std::vector<Triangle> triangles = readTriangles(n.at("triangles"), vertices.size());
       return Shape(TriangleMesh(std::move(vertices), std::move(triangles)));

@@ -17,7 +17,7 @@ namespace inertia::io::detail {
 /// `extra` (e.g. "material", "color" for bodies).
 /// Reads a shape object; the pose (position, orientation) goes to `pose`. Fails with the
 /// shape's pointer on an unknown type, unknown keys or an invalid shape. Relative paths
-/// ("obj") resolve against `baseDir`.
+/// ("obj") resolve against the directory of the file `n` was read from.
 Shape readShape(const Node& n, Transform& pose, std::initializer_list<std::string_view> extra = {});
 
 /// An array of points [[x, y, z], ...] (m).
