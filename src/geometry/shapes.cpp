@@ -28,9 +28,17 @@ void requireSize(Real value, const char* what) {
   }
 }
 
+// Out of line and cold: building the message only on failure, and keeping GCC 12's
+// -Warray-bounds false positive on inlined std::string concatenation out of the constructors.
+[[noreturn, gnu::noinline, gnu::cold]] void throwNullShape(const char* what) {
+  std::string message = "Shape: null ";
+  message += what;
+  throw InvalidArgument(message);
+}
+
 template <class T>
 std::shared_ptr<const T> requireNonNull(std::shared_ptr<const T> p, const char* what) {
-  require(p != nullptr, std::string("Shape: null ") + what);
+  if (p == nullptr) throwNullShape(what);
   return p;
 }
 
