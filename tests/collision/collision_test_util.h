@@ -31,6 +31,14 @@ inline double uniform(std::mt19937_64& rng, double lo, double hi) {
 inline Transform randomPose(std::mt19937_64& rng, double spread = 2) {
   return {randomVec(rng, -spread, spread), randomRotation(rng)};
 }
+/// The hull of n random points in a box of half size `size` stretched by 0.3..1 per axis.
+inline ConvexHull randomHull(std::mt19937_64& rng, int n, double size) {
+  std::vector<Vec3> pts;
+  const Vec3 stretch = randomVec(rng, 0.3, 1.0);
+  for (int i = 0; i < n; ++i)
+    pts.push_back(Real(size) * randomVec(rng, -1, 1).cwiseProduct(stretch));
+  return ConvexHull(pts);
+}
 inline Vec3d toD(const Vec3& v) { return v.cast<double>(); }
 /// World -> local in double, from the (Real) pose.
 inline Vec3d toLocal(const Transform& pose, const Vec3& x) {

@@ -21,14 +21,6 @@ namespace {
 double tol(double scale) { return 64 * kEps * scale; }
 constexpr double kCurvedRel = sizeof(Real) == 4 ? 2e-5 : 2e-7;
 
-ConvexHull randomHull(std::mt19937_64& rng, int n, double size) {
-  std::vector<Vec3> pts;
-  const Vec3 stretch = randomVec(rng, 0.3, 1.0);
-  for (int i = 0; i < n; ++i)
-    pts.push_back(Real(size) * randomVec(rng, -1, 1).cwiseProduct(stretch));
-  return ConvexHull(pts);
-}
-
 std::vector<Vec3d> worldVertices(const ConvexHull& h, const Transform& pose) {
   std::vector<Vec3d> v;
   for (const Vec3& x : h.vertices()) v.push_back(rotateD(pose, toD(x)) + toD(pose.p));

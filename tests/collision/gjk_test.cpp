@@ -121,14 +121,6 @@ std::pair<double, double> extent(const Poly& p, const Vec3d& u) {
   return {lo, hi};
 }
 
-ConvexHull randomHull(std::mt19937_64& rng, int n, double size) {
-  std::vector<Vec3> pts;
-  const Vec3 stretch = randomVec(rng, 0.3, 1.0);
-  for (int i = 0; i < n; ++i)
-    pts.push_back(Real(size) * randomVec(rng, -1, 1).cwiseProduct(stretch));
-  return ConvexHull(pts);
-}
-
 // Checks the witness points of a separated pair: on the surfaces, distance apart, along normal.
 void expectWitnesses(const Collider& a, const Transform& pa, const Collider& b, const Transform& pb,
                      const ClosestPoints& c, double t) {

@@ -19,14 +19,6 @@ namespace {
 // Distances carry GJK's rounding, a few dozen ulps of coordinates of ~5 m.
 const double kRound = 64 * kEps * 5;
 
-ConvexHull randomHull(std::mt19937_64& rng, int n, double size) {
-  std::vector<Vec3> pts;
-  const Vec3 stretch = randomVec(rng, 0.3, 1.0);
-  for (int i = 0; i < n; ++i)
-    pts.push_back(Real(size) * randomVec(rng, -1, 1).cwiseProduct(stretch));
-  return ConvexHull(pts);
-}
-
 // Signed distance of the swept pair at time t: negative (penetration depth) when overlapping.
 double separationAt(const Collider& a, const Sweep& sa, const Collider& b, const Sweep& sb,
                     double t) {
