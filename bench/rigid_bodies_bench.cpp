@@ -1,0 +1,270 @@
+// Rigid bodies against Bullet 3 (btDiscreteDynamicsWorld: btDbvtBroadphase,
+// btSequentialImpulseConstraintSolver with its default 10 iterations) in the same run, single
+// thread, sleeping off in both, 600 steps of 1/60 s. The scenes come from the shared builders'
+// BodyDesc lists and are built from the same list in both engines:
+// - pyramid: a 2D-style wall of unit boxes, base 40 (820 boxes), on a ground plane;
+// - pile: 4,000 spheres (r 0.5 m) in 20 x 20 columns of 10 layers, spacing 1.1 m, falling into
+//   a 25 x 25 m box (ground plane + 4 static box walls);
+// - rain: 2,000 unit boxes at random positions and orientations (fixed seed) onto a ground plane.
+// Friction 0.6, restitution 0, density 1000 kg/m^3, gravity -9.81 m/s^2. Reported: mean ms per
+// step (Inertia's phase split from World::phaseTimes()) and stability checks: the pyramid's
+// largest box displacement (it "stands" when no box moved more than 0.25 m), bodies below
+// y = -1 m (fell through the ground), bodies outside the pile's box, non-finite states and the
+// final kinetic energy.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <btBulletDynamicsCommon.h>
+
+#include "inertia/world/builders.h"
+#include "inertia/world/world.h"
+
+using namespace inertia;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+constexpr int kSteps = 600;
+constexpr Real kDt = Real(1.0 / 60);
+constexpr Real kFriction = Real(0.6);
+constexpr double kPileHalfWidth = 12.5;  // m, inner faces of the pile's walls
+
+// A scene: the static bodies (ground, walls) and the dynamic ones, as engine-agnostic lists.
+struct Scene {
+  std::string name;
+  std::vector<BodyDesc> statics;
+  std::vector<BodyDesc> dynamics;
+};
+
+Material material() { return {.density = 1000, .friction = kFriction, .restitution = 0}; }
+
+BodyDesc ground() {
+  BodyDesc d;
+  d.settings.type = BodyType::Static;
+  d.shapes.push_back({Plane{Vec3::UnitY(), 0}, material(), {}});
+  return d;
+}
+
+BodyDesc staticBox(const Vec3& center, const Vec3& halfExtents) {
+  BodyDesc d;
+  d.settings.type = BodyType::Static;
+  d.settings.position = center;
+  d.shapes.push_back({Box{halfExtents}, material(), {}});
+  return d;
+}
+
+Scene pyramidScene() {
+  return {"pyramid", {ground()}, pyramid({.base = 40, .material = material()})};
+}
+
+Scene pileScene() {
+  const Real spacing = Real(1.1);
+  const Real first = -Real(19) * spacing / 2;  // centres the 20 columns on the origin
+  Scene s{"pile",
+          {ground()},
+          grid({.counts = {20, 10, 20},
+                .spacing = Vec3::Constant(spacing),
+                .origin = Vec3(first, 1, first),
+                .shape = Sphere{Real(0.5)},
+                .material = material()})};
+  // Walls 1 m thick and 12 m high, inner faces at +-12.5 m.
+  const Real c = Real(kPileHalfWidth) + Real(0.5), h = 6;
+  s.statics.push_back(staticBox(Vec3(c, h, 0), Vec3(Real(0.5), h, c + Real(0.5))));
+  s.statics.push_back(staticBox(Vec3(-c, h, 0), Vec3(Real(0.5), h, c + Real(0.5))));
+  s.statics.push_back(staticBox(Vec3(0, h, c), Vec3(c + Real(0.5), h, Real(0.5))));
+  s.statics.push_back(staticBox(Vec3(0, h, -c), Vec3(c + Real(0.5), h, Real(0.5))));
+  return s;
+}
+
+Scene rainScene() {
+  // A 40 x 40 x 40 m volume (about 32 m^3 per box): some boxes start overlapping, the same
+  // ones in both engines.
+  return {"rain",
+          {ground()},
+          rain({.count = 2000,
+                .lower = Vec3(-20, 2, -20),
+                .upper = Vec3(20, 42, 20),
+                .shape = Box{Vec3::Constant(Real(0.5))},
+                .material = material(),
+                .seed = 7})};
+}
+
+// What a run measured.
+struct Result {
+  double msPerStep = 0;
+  PhaseTimes phases{};  // Inertia only (s, summed over the steps)
+  bool hasPhases = false;
+  double maxDisplacement = 0;  // m, final position against the start
+  int fellThrough = 0;         // bodies below y = -1 m
+  int outsideBox = 0;          // pile: bodies outside the walls
+  int nonFinite = 0;
+  double kineticEnergy = 0;  // J
+};
+
+// The checks on final positions, shared by both engines.
+void checkPositions(const Scene& scene, const std::vector<Vec3>& final, Result& r) {
+  for (std::size_t i = 0; i < final.size(); ++i) {
+    const Vec3& p = final[i];
+    if (!p.allFinite()) {
+      ++r.nonFinite;
+      continue;
+    }
+    r.maxDisplacement =
+        std::max(r.maxDisplacement, double((p - scene.dynamics[i].settings.position).norm()));
+    if (p.y() < -1) ++r.fellThrough;
+    if (scene.name == "pile" &&
+        (std::abs(p.x()) > kPileHalfWidth || std::abs(p.z()) > kPileHalfWidth))
+      ++r.outsideBox;
+  }
+}
+
+Result runInertia(const Scene& scene, const SolverSettings& solver) {
+  World world({.solver = solver, .threads = 1, .sleeping = false});
+  for (const BodyDesc& d : scene.statics) addBody(world, d);
+  std::vector<BodyId> ids;
+  ids.reserve(scene.dynamics.size());
+  for (const BodyDesc& d : scene.dynamics) ids.push_back(addBody(world, d));
+
+  double total = 0;
+  for (int i = 0; i < kSteps; ++i) {
+    const auto t0 = Clock::now();
+    world.step(kDt);
+    total += std::chrono::duration<double>(Clock::now() - t0).count();
+  }
+  Result r;
+  r.msPerStep = 1e3 * total / kSteps;
+  r.phases = world.phaseTimes();
+  r.hasPhases = true;
+  std::vector<Vec3> final;
+  for (BodyId id : ids) final.push_back(world.transform(id).p);
+  checkPositions(scene, final, r);
+  r.kineticEnergy = double(world.rigidBodies().kineticEnergy());
+  return r;
+}
+
+btVector3 bt(const Vec3& v) { return {btScalar(v.x()), btScalar(v.y()), btScalar(v.z())}; }
+
+Result runBullet(const Scene& scene) {
+  btDefaultCollisionConfiguration config;
+  btCollisionDispatcher dispatcher(&config);
+  btDbvtBroadphase broadPhase;
+  btSequentialImpulseConstraintSolver solver;
+  btDiscreteDynamicsWorld world(&dispatcher, &broadPhase, &solver, &config);
+  world.setGravity(btVector3(0, btScalar(-9.81), 0));
+
+  std::vector<std::unique_ptr<btCollisionShape>> shapes;
+  std::vector<std::unique_ptr<btDefaultMotionState>> motions;
+  std::vector<std::unique_ptr<btRigidBody>> bodies;
+  std::vector<btRigidBody*> dynamic;
+  auto add = [&](const BodyDesc& d) {
+    if (d.shapes.size() != 1) std::abort();  // the scenes here have one shape, at the origin
+    const ShapeDesc& s = d.shapes[0];
+    double volume = 0;
+    if (const Plane* p = s.shape.getIf<Plane>()) {
+      shapes.push_back(std::make_unique<btStaticPlaneShape>(bt(p->normal), btScalar(p->offset)));
+    } else if (const Box* b = s.shape.getIf<Box>()) {
+      // btBoxShape keeps its collision margin (0.04 m) inside the given half extents.
+      shapes.push_back(std::make_unique<btBoxShape>(bt(b->halfExtents)));
+      volume = 8.0 * double(b->halfExtents.prod());
+    } else if (const Sphere* sp = s.shape.getIf<Sphere>()) {
+      shapes.push_back(std::make_unique<btSphereShape>(btScalar(sp->radius)));
+      volume = 4.0 / 3.0 * std::numbers::pi * std::pow(double(sp->radius), 3);
+    } else {
+      std::abort();
+    }
+    const bool isStatic = d.settings.type == BodyType::Static;
+    const btScalar mass = isStatic ? 0 : btScalar(double(s.material.density) * volume);
+    btVector3 inertia(0, 0, 0);
+    if (!isStatic) shapes.back()->calculateLocalInertia(mass, inertia);
+    const Quat& q = d.settings.orientation;
+    motions.push_back(std::make_unique<btDefaultMotionState>(
+        btTransform(btQuaternion(btScalar(q.x()), btScalar(q.y()), btScalar(q.z()), btScalar(q.w())),
+                    bt(d.settings.position))));
+    btRigidBody::btRigidBodyConstructionInfo info(mass, motions.back().get(), shapes.back().get(),
+                                                  inertia);
+    // Bullet multiplies the two bodies' coefficients; sqrt on each gives the geometric mean,
+    // Inertia's default rule (0.6 between any two of these materials).
+    info.m_friction = btScalar(std::sqrt(double(s.material.friction)));
+    info.m_restitution = btScalar(s.material.restitution);
+    bodies.push_back(std::make_unique<btRigidBody>(info));
+    if (!isStatic) {
+      bodies.back()->setActivationState(DISABLE_DEACTIVATION);
+      dynamic.push_back(bodies.back().get());
+    }
+    world.addRigidBody(bodies.back().get());
+  };
+  for (const BodyDesc& d : scene.statics) add(d);
+  for (const BodyDesc& d : scene.dynamics) add(d);
+
+  double total = 0;
+  for (int i = 0; i < kSteps; ++i) {
+    const auto t0 = Clock::now();
+    world.stepSimulation(btScalar(kDt), 0);  // maxSubSteps 0: exactly one step of kDt
+    total += std::chrono::duration<double>(Clock::now() - t0).count();
+  }
+  Result r;
+  r.msPerStep = 1e3 * total / kSteps;
+  std::vector<Vec3> final;
+  for (const btRigidBody* b : dynamic) {
+    const btVector3& p = b->getCenterOfMassPosition();
+    final.emplace_back(Real(p.x()), Real(p.y()), Real(p.z()));
+    const btVector3 v = b->getLinearVelocity(), w = b->getAngularVelocity();
+    const btVector3 iw = b->getInvInertiaTensorWorld().inverse() * w;
+    r.kineticEnergy += 0.5 * double(1 / b->getInvMass()) * double(v.length2()) + 0.5 * double(w.dot(iw));
+  }
+  checkPositions(scene, final, r);
+  for (auto& b : bodies) world.removeRigidBody(b.get());
+  return r;
+}
+
+void printRow(const Scene& scene, const char* engine, const Result& r) {
+  const double ms = 1e3 / kSteps;
+  char split[96] = "-";
+  if (r.hasPhases)
+    std::snprintf(split, sizeof split, "%.2f / %.2f / %.2f / %.2f", ms * r.phases.broadPhase,
+                  ms * r.phases.narrowPhase, ms * r.phases.solver, ms * r.phases.integration);
+  char disp[48] = "-";  // only the pyramid should stay where it was built
+  if (scene.name == "pyramid")
+    std::snprintf(disp, sizeof disp, "%.3f (%s)", r.maxDisplacement,
+                  r.maxDisplacement <= 0.25 ? "stands" : "fell");
+  char outside[16] = "-";
+  if (scene.name == "pile") std::snprintf(outside, sizeof outside, "%d", r.outsideBox);
+  std::printf("| %s | %s | %zu | %.2f | %s | %s | %d | %s | %d | %.4g |\n", scene.name.c_str(),
+              engine, scene.dynamics.size(), r.msPerStep, split, disp, r.fellThrough, outside,
+              r.nonFinite, r.kineticEnergy);
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int main() {
+  std::printf(
+      "rigid bodies: %d steps of 1/60 s, 1 thread, sleeping off, Real = %s, Bullet btScalar = "
+      "%s; friction 0.6, restitution 0, density 1000 kg/m^3\n\n",
+      kSteps, sizeof(Real) == 4 ? "float" : "double", sizeof(btScalar) == 4 ? "float" : "double");
+  std::printf(
+      "| scene | engine | bodies | ms/step | Inertia broad / narrow / solver / integ. ms | "
+      "max disp. m | below -1 m | outside box | non-finite | final KE J |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Scene& scene : {pyramidScene(), pileScene(), rainScene()}) {
+    printRow(scene, "Inertia soft_step (4 substeps, 8 it.)", runInertia(scene, {}));
+    printRow(scene, "Inertia soft_step (4 substeps, 2 it.)",
+             runInertia(scene, {.iterations = 2}));
+    printRow(scene, "Bullet SI (10 it., split impulse)", runBullet(scene));
+  }
+  std::printf(
+      "\nms/step: mean wall-clock time of the %d steps. Inertia's phase split from "
+      "World::phaseTimes(). Bullet: btDiscreteDynamicsWorld, btDbvtBroadphase, "
+      "btSequentialImpulseConstraintSolver (defaults: 10 iterations, split impulse, "
+      "warm starting 0.85), stepSimulation(1/60, 0), DISABLE_DEACTIVATION. Pyramid max disp.: the "
+      "largest final displacement of a box from its start; it stands when <= 0.25 m.\n",
+      kSteps);
+  return 0;
+}
