@@ -25,7 +25,7 @@ struct Moving {
   V at(double t) const { return x + t * d; }
 };
 
-Moving toDouble(const LinearMotion& m) {
+Moving inDouble(const LinearMotion& m) {
   const V s = m.start.cast<double>();
   return {s, m.end.cast<double>() - s};
 }
@@ -301,7 +301,7 @@ std::optional<VertexFaceContact> vertexFaceContinuous(const LinearMotion& pm,
                                                       const LinearMotion& cm,
                                                       const ContinuousTriangleSettings& settings) {
   requireSettings(settings, "vertexFaceContinuous");
-  const Moving p = toDouble(pm), a = toDouble(am), b = toDouble(bm), c = toDouble(cm);
+  const Moving p = inDouble(pm), a = inDouble(am), b = inDouble(bm), c = inDouble(cm);
   // f(t) = ((b - a) x (c - a)) . (p - a): the vertex's signed distance times |normal|.
   const TripleProduct f(minus(b, a), minus(c, a), minus(p, a));
   const Scales scales = scalesOf({&p, &a, &b, &c}, f);
@@ -363,7 +363,7 @@ std::optional<EdgeEdgeContact> edgeEdgeContinuous(const LinearMotion& p0m, const
                                                   const LinearMotion& q0m, const LinearMotion& q1m,
                                                   const ContinuousTriangleSettings& settings) {
   requireSettings(settings, "edgeEdgeContinuous");
-  const Moving p0 = toDouble(p0m), p1 = toDouble(p1m), q0 = toDouble(q0m), q1 = toDouble(q1m);
+  const Moving p0 = inDouble(p0m), p1 = inDouble(p1m), q0 = inDouble(q0m), q1 = inDouble(q1m);
   // f(t) = ((p1 - p0) x (q1 - q0)) . (q0 - p0): the lines' signed distance times |cross|.
   const TripleProduct f(minus(p1, p0), minus(q1, q0), minus(q0, p0));
   const Scales scales = scalesOf({&p0, &p1, &q0, &q1}, f);
