@@ -14,7 +14,10 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <vector>
+
+#include <tbb/task_arena.h>
 
 #include "inertia/core/types.h"
 
@@ -26,6 +29,7 @@ struct SolverBody {
   Vec3 w = Vec3::Zero();   ///< Angular velocity (rad/s).
   Vec3 dp = Vec3::Zero();  ///< Displacement of the centre of mass since the step's start (m).
   Quat dq = Quat::Identity();  ///< Rotation since the step's start.
+  Mat3 dR = Mat3::Identity();  ///< dq as a matrix, refreshed whenever dq changes (cheaper to apply).
   Real invMass = 0;            ///< (1/kg); 0 for static and kinematic bodies.
   Mat3 invInertia = Mat3::Zero();  ///< World inverse inertia at the step's start (1/(kg m^2)).
 };
@@ -48,6 +52,17 @@ struct ConstraintPoint {
   std::array<Real, 2> tangentImpulse{};
   Real maxNormalImpulse = 0;
   Real relativeVelocity = 0;  ///< Normal velocity at the step's start (m/s), for restitution.
+  // The rows' angular Jacobians and their images under the inverse inertias, fixed for the
+  // step (anchors and inertia are frozen at its start), so an iteration applies an impulse with
+  // a few scaled additions instead of cross products and matrix products.
+  Vec3 rnA = Vec3::Zero();  ///< rA x n
+  Vec3 rnB = Vec3::Zero();  ///< rB x n
+  Vec3 wnA = Vec3::Zero();  ///< invIA (rA x n)
+  Vec3 wnB = Vec3::Zero();  ///< invIB (rB x n)
+  std::array<Vec3, 2> rtA{Vec3::Zero(), Vec3::Zero()};  ///< rA x t_k
+  std::array<Vec3, 2> rtB{Vec3::Zero(), Vec3::Zero()};
+  std::array<Vec3, 2> wtA{Vec3::Zero(), Vec3::Zero()};  ///< invIA (rA x t_k)
+  std::array<Vec3, 2> wtB{Vec3::Zero(), Vec3::Zero()};
 };
 
 struct ContactConstraint {
@@ -74,11 +89,33 @@ struct ContactConstraint {
 /// for nearby normals except across n.z = 0's sign.
 std::array<Vec3, 2> tangentBasis(const Vec3& n);
 
-/// Effective masses of the rows of `c` from its bodies (anchors and normal already set).
+/// Effective masses and angular Jacobians of the rows of `c` from its bodies (anchors, normal
+/// and tangents already set).
 void computeMasses(ContactConstraint& c, const SolverBody& a, const SolverBody& b);
+
+/// The constraints grouped by colour (graph colouring, as Box2D v3): no two constraints of a
+/// colour share a moving body (static and kinematic bodies are shared freely), so a colour's
+/// constraints can be solved in parallel with the same result as in sequence. Constraints that
+/// find no free colour among kMaxColors form a last, overflow group solved in sequence.
+inline constexpr int kMaxColors = 24;
+/// Constraints per parallel task.
+inline constexpr std::uint32_t kColorGrain = 64;
+struct ConstraintColoring {
+  std::vector<std::uint32_t> order;    ///< Constraint indices, colour by colour.
+  std::vector<std::uint32_t> offsets;  ///< Group g is order[offsets[g], offsets[g + 1]).
+  bool overflow = false;               ///< The last group is the overflow.
+};
+
+/// Colours `cs` greedily in order: deterministic, independent of any thread count.
+void colorConstraints(const std::vector<ContactConstraint>& cs,
+                      const std::vector<SolverBody>& bodies, ConstraintColoring& out);
 
 /// Applies the accumulated impulses of every constraint to its bodies.
 void warmStart(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies);
+/// The same, colour by colour, in parallel on `arena` when given (the result does not depend on
+/// it). Likewise the coloured overloads of solve() and applyRestitution() below.
+void warmStart(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
+               const ConstraintColoring& coloring, tbb::task_arena* arena);
 
 /// How a solve pass treats position error.
 struct BiasMode {
@@ -93,6 +130,8 @@ struct BiasMode {
 /// One Gauss-Seidel pass over every constraint, in order.
 void solve(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
            const BiasMode& mode);
+void solve(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
+           const BiasMode& mode, const ConstraintColoring& coloring, tbb::task_arena* arena);
 
 /// Before a substep's iterations: points whose gap is still open take the current normal
 /// velocity as their approach speed, so restitution uses the speed at impact rather than at
@@ -103,5 +142,8 @@ void updateApproach(std::vector<ContactConstraint>& cs, const std::vector<Solver
 /// (m/s) and carried an impulse leave with restitution times their approach speed.
 void applyRestitution(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
                       Real threshold);
+void applyRestitution(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
+                      Real threshold, const ConstraintColoring& coloring,
+                      tbb::task_arena* arena);
 
 }  // namespace inertia::detail

@@ -6,22 +6,25 @@
 //   3. islands: union-find over touching pairs; an island with one awake body wakes whole;
 //   4. solve: bodies without contacts fly free with the chosen ode method and the exact
 //      momentum-conserving rotation splitting; the others go through the contact solver
-//      (soft step or pgs) in `substeps` substeps;
+//      (soft step, pgs, or a direct LCP per island: lcp_contact.h) in `substeps` substeps;
 //   5. finalise: poses from the solver's motion, sleep timers, island sleep, contact events.
 #include "inertia/dynamics/rigid_body_system.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <numeric>
 #include <string>
 #include <tuple>
 
 #include <Eigen/Eigenvalues>
+#include <tbb/parallel_for.h>
 
 #include "contact_solver.h"
 #include "integrate.h"
+#include "lcp_contact.h"
 #include "inertia/collision/dynamic_tree.h"
 #include "inertia/core/error.h"
 #include "inertia/core/math.h"
@@ -101,11 +104,37 @@ struct ShapeRecord {
 
 // Per contact, what the public ContactInfo does not carry: the friction state for warm starts.
 struct ContactExtra {
-  std::array<Vec3, 4> tangentImpulse{};  // world vectors, reprojected on the new tangents
+  // Zeroed here: `{}` leaves Eigen vectors uninitialised (a new contact warm-started pgs
+  // friction from garbage).
+  ContactExtra() {
+    tangentImpulse.fill(Vec3::Zero());
+    localA.fill(Vec3::Zero());
+    localB.fill(Vec3::Zero());
+  }
+  std::array<Vec3, 4> tangentImpulse;  // world vectors, reprojected on the new tangents
   Vec3 angularImpulse = Vec3::Zero();     // rolling + spinning, world
   Real approach = 0;  // fastest normal approach at the step's start (m/s, >= 0)
   bool touching = false;
+  // Manifold reuse: B's shape pose in A's shape frame when the manifold was computed, and the
+  // manifold in the shapes' frames (normal and points in A's, points on B in B's).
+  bool reusable = false;
+  Transform relative{};
+  Vec3 localNormal = Vec3::UnitY();
+  std::array<Vec3, 4> localA;
+  std::array<Vec3, 4> localB;
 };
+
+// What the narrow phase found for one chunk of pairs.
+struct NarrowChunk {
+  std::vector<ContactInfo> contacts;
+  std::vector<ContactExtra> extras;
+  std::vector<ContactManifold> manifolds;  // scratch for collide()
+};
+
+// Pairs of these shapes make at most one manifold, so it can be carried along as a whole.
+bool singleManifold(ShapeType t) {
+  return t != ShapeType::Mesh && t != ShapeType::HeightField && t != ShapeType::Compound;
+}
 
 std::uint64_t pairKey(std::uint32_t a, std::uint32_t b) {
   return (std::uint64_t(a) << 32) | std::uint64_t(b);
@@ -150,6 +179,8 @@ void validate(const ContactTuning& t) {
   require(t.baumgarte <= 1, "ContactTuning::baumgarte must be <= 1");
   check(t.speculativeDistance, false, "speculativeDistance");
   check(t.bulletFraction, true, "bulletFraction");
+  check(t.reuseDistance, false, "reuseDistance");
+  check(t.reuseAngle, false, "reuseAngle");
   check(t.sleepSpeed, false, "sleepSpeed");
   check(t.timeToSleep, true, "timeToSleep");
 }
@@ -167,7 +198,15 @@ struct RigidBodySystem::Data {
   int liveBodies = 0;
 
   // Scratch, reused from step to step.
-  std::vector<int> moved;
+  std::vector<int> moved;     // proxies of the awake bodies
+  std::vector<int> enlarged;  // those whose fat box changed this step
+  // The tree's candidate pairs (proxy ids, sorted), kept from step to step: a pair stays while
+  // the fat boxes overlap, and only proxies whose fat box changed are queried for new ones.
+  // Creating, destroying or teleporting proxies sets `pairsDirty`, and the next step queries
+  // every proxy of a non-static body again.
+  std::vector<std::pair<int, int>> treePairs;
+  std::vector<std::pair<int, int>> mergedPairs;
+  bool pairsDirty = true;
   std::vector<std::pair<int, int>> proxyPairs;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   std::vector<ContactManifold> manifolds;
@@ -176,6 +215,8 @@ struct RigidBodySystem::Data {
   std::vector<std::uint32_t> order;
   std::vector<ContactConstraint> constraints;
   std::vector<SolverBody> solverBodies;
+  std::vector<NarrowChunk> chunks;
+  detail::ConstraintColoring coloring;
   std::vector<int> solverIndex;     // per body slot, -1 when not in the solver
   std::vector<std::uint32_t> solverToBody;
   std::vector<Quat> startRotation;  // per solver body
@@ -280,6 +321,7 @@ void RigidBodySystem::Data::refreshProxies(BodyRecord& b) {
     if (s.proxy == DynamicTree::kNull) continue;
     tree.destroyProxy(s.proxy);
     s.proxy = tree.createProxy(worldBounds(s.collider.shape(), shapePose(s)), si);
+    pairsDirty = true;
   }
 }
 
@@ -349,6 +391,7 @@ void RigidBodySystem::destroyBody(BodyId id) {
     ShapeRecord& s = D.shapes[si];
     if (s.proxy != DynamicTree::kNull) D.tree.destroyProxy(s.proxy);
     s.proxy = DynamicTree::kNull;
+    D.pairsDirty = true;
     s.alive = false;
     ++s.generation;
     D.planes.erase(std::remove(D.planes.begin(), D.planes.end(), si), D.planes.end());
@@ -398,6 +441,7 @@ ShapeId RigidBodySystem::addShape(BodyId bodyId, const Collider& collider,
     D.planes.push_back(index);
   } else {
     s.proxy = D.tree.createProxy(worldBounds(collider.shape(), D.shapePose(s)), index);
+    D.pairsDirty = true;
   }
   b.shapes.push_back(index);
   D.updateMass(b);
@@ -411,6 +455,7 @@ void RigidBodySystem::removeShape(ShapeId id) {
   BodyRecord& b = D.bodies[s.body];
   if (s.proxy != DynamicTree::kNull) D.tree.destroyProxy(s.proxy);
   s.proxy = DynamicTree::kNull;
+  D.pairsDirty = true;
   D.planes.erase(std::remove(D.planes.begin(), D.planes.end(), id.index), D.planes.end());
   D.dropContacts(id.index);
   b.shapes.erase(std::remove(b.shapes.begin(), b.shapes.end(), id.index), b.shapes.end());
@@ -624,11 +669,8 @@ std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t i) {
 
 }  // namespace
 
-void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* /*arena*/) {
+void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* arena) {
   require(std::isfinite(dt) && dt > 0, "RigidBodySystem::step: dt must be finite and > 0 (s)");
-  require(s.solver.type == SolverType::SoftStep || s.solver.type == SolverType::Pgs,
-          std::string("RigidBodySystem::step: the ") + std::string(solverName(s.solver.type)) +
-              " solver is not built yet (use soft_step or pgs)");
   using Clock = std::chrono::steady_clock;
   Data& D = *d_;
   const ContactTuning& tuning = s.contact;
@@ -639,6 +681,7 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
   // 1. Broad phase.
   auto t0 = Clock::now();
   D.moved.clear();
+  D.enlarged.clear();
   for (std::uint32_t bi = 0; bi < bodyCount; ++bi) {
     BodyRecord& b = D.bodies[bi];
     if (!b.alive || b.type == BodyType::Static || !b.awake) continue;
@@ -653,11 +696,28 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
         const Real spin = b.w.norm() * b.extent * dt;
         box = box.merged({box.lower + displacement, box.upper + displacement}).inflated(spin);
       }
-      D.tree.moveProxy(sh.proxy, box.inflated(tuning.speculativeDistance), displacement);
+      if (D.tree.moveProxy(sh.proxy, box.inflated(tuning.speculativeDistance), displacement))
+        D.enlarged.push_back(sh.proxy);
       D.moved.push_back(sh.proxy);
     }
   }
-  D.tree.computePairs(D.moved, D.proxyPairs);
+  if (D.pairsDirty) {
+    D.enlarged.clear();
+    D.treePairs.clear();
+    for (const ShapeRecord& sh : D.shapes)
+      if (sh.alive && sh.proxy != DynamicTree::kNull && D.bodies[sh.body].type != BodyType::Static)
+        D.enlarged.push_back(sh.proxy);
+    D.pairsDirty = false;
+  }
+  D.tree.computePairs(D.enlarged, D.proxyPairs);
+  // Last step's pairs whose fat boxes still overlap, joined with the new candidates.
+  std::erase_if(D.treePairs, [&](const std::pair<int, int>& pq) {
+    return !D.tree.fatAabb(pq.first).overlaps(D.tree.fatAabb(pq.second));
+  });
+  D.mergedPairs.clear();
+  std::set_union(D.treePairs.begin(), D.treePairs.end(), D.proxyPairs.begin(),
+                 D.proxyPairs.end(), std::back_inserter(D.mergedPairs));
+  std::swap(D.treePairs, D.mergedPairs);
   D.pairs.clear();
   auto addPair = [&](std::uint32_t a, std::uint32_t b) {
     if (a > b) std::swap(a, b);
@@ -668,7 +728,7 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
     if (!ba.awake && !bb.awake) return;
     D.pairs.emplace_back(a, b);
   };
-  for (const auto& [p, q] : D.proxyPairs) addPair(D.tree.userData(p), D.tree.userData(q));
+  for (const auto& [p, q] : D.treePairs) addPair(D.tree.userData(p), D.tree.userData(q));
   for (std::uint32_t plane : D.planes) {
     const Plane& pl = *D.shapes[plane].collider.shape().getIf<Plane>();
     const Transform planePose = D.shapePose(D.shapes[plane]);
@@ -687,33 +747,109 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
   D.times.broadPhase += std::chrono::duration<double>(t1 - t0).count();
 
   // 2. Narrow phase.
+  const bool reuse = tuning.reuseDistance > 0 && tuning.reuseAngle > 0;
+  const Real reuseDistance2 = tuning.reuseDistance * tuning.reuseDistance;
+  const Real reuseCosine = std::cos(Real(0.5) * tuning.reuseAngle);  // |q . q'| = cos(angle / 2)
   std::swap(D.previous, D.contacts);
   std::swap(D.previousExtras, D.extras);
   D.contacts.clear();
   D.extras.clear();
-  for (const auto& [a, b] : D.pairs) {
-    const ShapeRecord& sa = D.shapes[a];
-    const ShapeRecord& sb = D.shapes[b];
-    const BodyRecord& ba = D.bodies[sa.body];
-    const BodyRecord& bb = D.bodies[sb.body];
-    ContactSettings cs;
-    cs.speculativeDistance = tuning.speculativeDistance;
-    if (isBullet(ba, dt, tuning) || isBullet(bb, dt, tuning))
-      cs.speculativeDistance += ((bb.v - ba.v).norm() + ba.w.norm() * ba.extent +
-                                 bb.w.norm() * bb.extent) * dt;
-    D.manifolds.clear();
-    collide(sa.collider, D.shapePose(sa), sb.collider, D.shapePose(sb), cs, D.manifolds);
-    for (const ContactManifold& m : D.manifolds) {
-      if (m.pointCount == 0) continue;
+  // The pairs in fixed chunks (boundaries independent of the thread count), each collided into
+  // its own buffers on the arena, then joined in chunk order: the same contacts in the same
+  // order whatever the number of threads.
+  constexpr std::size_t kPairChunk = 32;
+  const std::size_t chunkCount = (D.pairs.size() + kPairChunk - 1) / kPairChunk;
+  if (D.chunks.size() < chunkCount) D.chunks.resize(chunkCount);
+  auto collideChunk = [&](std::size_t chunk) {
+    NarrowChunk& out = D.chunks[chunk];
+    out.contacts.clear();
+    out.extras.clear();
+    const std::size_t first = chunk * kPairChunk;
+    const std::size_t last = std::min(first + kPairChunk, D.pairs.size());
+    for (std::size_t pi = first; pi < last; ++pi) {
+      const auto [a, b] = D.pairs[pi];
+      const ShapeRecord& sa = D.shapes[a];
+      const ShapeRecord& sb = D.shapes[b];
+      const BodyRecord& ba = D.bodies[sa.body];
+      const BodyRecord& bb = D.bodies[sb.body];
+      ContactSettings cs;
+      cs.speculativeDistance = tuning.speculativeDistance;
+      if (isBullet(ba, dt, tuning) || isBullet(bb, dt, tuning))
+        cs.speculativeDistance +=
+            ((bb.v - ba.v).norm() + ba.w.norm() * ba.extent + bb.w.norm() * bb.extent) * dt;
+      const Transform poseA = D.shapePose(sa), poseB = D.shapePose(sb);
       ContactInfo info;
       info.bodyA = D.bodyId(sa.body);
       info.bodyB = D.bodyId(sb.body);
       info.shapeA = D.shapeId(a);
       info.shapeB = D.shapeId(b);
-      info.manifold = m;
-      D.contacts.push_back(info);
-      D.extras.emplace_back();
+      const bool cacheable = reuse && cs.speculativeDistance == tuning.speculativeDistance &&
+                             singleManifold(sa.collider.type()) &&
+                             singleManifold(sb.collider.type());
+      const Transform relative = poseA.inverse() * poseB;
+      if (cacheable) {
+        // Last step's manifold of this pair, if its features still hold.
+        const auto key = std::make_tuple(a, b, 0u, 0u);
+        auto it =
+            std::lower_bound(D.previous.begin(), D.previous.end(), key,
+                             [](const ContactInfo& p, const auto& k) { return contactKey(p) < k; });
+        if (it != D.previous.end() && contactKey(*it) == key && it->bodyA == info.bodyA) {
+          const ContactExtra& pe =
+              D.previousExtras[static_cast<std::size_t>(it - D.previous.begin())];
+          if (pe.reusable && (relative.p - pe.relative.p).squaredNorm() < reuseDistance2 &&
+              std::abs(relative.q.dot(pe.relative.q)) > reuseCosine) {
+            info.manifold = it->manifold;
+            ContactManifold& m = info.manifold;
+            m.normal = poseA.rotate(pe.localNormal);
+            for (int k = 0; k < m.pointCount; ++k) {
+              ContactPoint& p = m.points[static_cast<std::size_t>(k)];
+              p.pointA = poseA.apply(pe.localA[static_cast<std::size_t>(k)]);
+              p.pointB = poseB.apply(pe.localB[static_cast<std::size_t>(k)]);
+              p.separation = (p.pointB - p.pointA).dot(m.normal);
+            }
+            out.contacts.push_back(info);
+            ContactExtra e;
+            e.reusable = true;
+            e.relative = pe.relative;
+            e.localNormal = pe.localNormal;
+            e.localA = pe.localA;
+            e.localB = pe.localB;
+            out.extras.push_back(e);
+            continue;
+          }
+        }
+      }
+      out.manifolds.clear();
+      collide(sa.collider, poseA, sb.collider, poseB, cs, out.manifolds);
+      for (const ContactManifold& m : out.manifolds) {
+        if (m.pointCount == 0) continue;
+        info.manifold = m;
+        out.contacts.push_back(info);
+        ContactExtra e;
+        if (cacheable) {
+          e.reusable = true;
+          e.relative = relative;
+          e.localNormal = poseA.q.conjugate() * m.normal;
+          for (int k = 0; k < m.pointCount; ++k) {
+            const ContactPoint& p = m.points[static_cast<std::size_t>(k)];
+            e.localA[static_cast<std::size_t>(k)] = poseA.applyInverse(p.pointA);
+            e.localB[static_cast<std::size_t>(k)] = poseB.applyInverse(p.pointB);
+          }
+        }
+        out.extras.push_back(e);
+      }
     }
+  };
+  if (arena && chunkCount > 1) {
+    arena->execute([&] {
+      tbb::parallel_for(std::size_t(0), chunkCount, [&](std::size_t c) { collideChunk(c); });
+    });
+  } else {
+    for (std::size_t c = 0; c < chunkCount; ++c) collideChunk(c);
+  }
+  for (std::size_t c = 0; c < chunkCount; ++c) {
+    D.contacts.insert(D.contacts.end(), D.chunks[c].contacts.begin(), D.chunks[c].contacts.end());
+    D.extras.insert(D.extras.end(), D.chunks[c].extras.begin(), D.chunks[c].extras.end());
   }
   // Contacts between bodies that did not move (asleep or static) keep last step's state.
   for (std::size_t i = 0; i < D.previous.size(); ++i) {
@@ -895,11 +1031,16 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
     const SolverBody& b = c.bodyB >= 0 ? D.solverBodies[static_cast<std::size_t>(c.bodyB)] : none;
     detail::computeMasses(c, a, b);
   }
+  detail::colorConstraints(D.constraints, D.solverBodies, D.coloring);
   auto t3 = Clock::now();
   D.times.narrowPhase += std::chrono::duration<double>(t3 - t2).count();
 
   // 5. Substeps.
   const bool softStep = s.solver.type == SolverType::SoftStep;
+  const bool lcp = s.solver.type == SolverType::LcpDantzig || s.solver.type == SolverType::LcpLemke;
+  const detail::LcpMethod lcpMethod = s.solver.type == SolverType::LcpLemke
+                                          ? detail::LcpMethod::Lemke
+                                          : detail::LcpMethod::Dantzig;
   detail::BiasMode mode;
   mode.soft = softStep;
   mode.invH = 1 / h;
@@ -925,9 +1066,15 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
     }
     integrationTime += std::chrono::duration<double>(Clock::now() - ti).count();
     detail::updateApproach(D.constraints, D.solverBodies);
-    detail::warmStart(D.constraints, D.solverBodies);
-    for (int it = 0; it < s.solver.iterations; ++it)
-      detail::solve(D.constraints, D.solverBodies, mode);
+    if (lcp) {
+      // Direct LCP per island in place of the iterations (lcp_contact.h).
+      detail::solveContactsLcp(D.constraints, D.solverBodies, mode, lcpMethod,
+                               s.solver.iterations);
+    } else {
+      detail::warmStart(D.constraints, D.solverBodies, D.coloring, arena);
+      for (int it = 0; it < s.solver.iterations; ++it)
+        detail::solve(D.constraints, D.solverBodies, mode, D.coloring, arena);
+    }
     ti = Clock::now();
     for (std::size_t k = 0; k < D.solverBodies.size(); ++k) {
       const BodyRecord& b = D.bodies[D.solverToBody[k]];
@@ -938,13 +1085,16 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
       if (wn > b.maxAngularSpeed) sb.w *= b.maxAngularSpeed / wn;
       sb.dp += h * sb.v;
       sb.dq = integrateRotation(sb.dq, sb.w, h);
+      sb.dR = sb.dq.toRotationMatrix();
     }
     integrationTime += std::chrono::duration<double>(Clock::now() - ti).count();
-    if (softStep)
-      for (int it = 0; it < s.solver.iterations; ++it)
-        detail::solve(D.constraints, D.solverBodies, relax);
+    if (softStep) {
+      for (int it = 0; it < s.solver.relaxIterations; ++it)
+        detail::solve(D.constraints, D.solverBodies, relax, D.coloring, arena);
+    }
   }
-  detail::applyRestitution(D.constraints, D.solverBodies, tuning.restitutionThreshold);
+  detail::applyRestitution(D.constraints, D.solverBodies, tuning.restitutionThreshold,
+                           D.coloring, arena);
 
   // Store the impulses for the next step's warm start and for the user.
   for (const ContactConstraint& c : D.constraints) {

@@ -27,15 +27,15 @@ std::string integratorNames() {
 }
 
 void readSolver(const Node& n, SolverSettings& s) {
-  n.requireObject({"type", "iterations"});
+  n.requireObject({"type", "iterations", "relax_iterations"});
   if (n.has("type")) {
     Node t = n.at("type");
     if (!solverFromName(t.string(), s.type))
       t.fail("unknown solver \"" + t.string() + "\"; expected one of " + std::string(solverNames()));
-    if (s.type == SolverType::LcpDantzig || s.type == SolverType::LcpLemke)
-      t.fail("the " + t.string() + " solver is not built yet; use soft_step or pgs");
   }
   if (n.has("iterations")) s.iterations = int(n.at("iterations").integer(1, 1000));
+  if (n.has("relax_iterations"))
+    s.relaxIterations = int(n.at("relax_iterations").integer(0, 1000));
 }
 
 void readWorld(const Node& n, WorldSettings& w) {

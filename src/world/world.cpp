@@ -17,9 +17,8 @@ void validate(const WorldSettings& s) {
   require(s.substeps >= 1 && s.substeps <= 64, "WorldSettings::substeps must be in 1..64");
   require(s.solver.iterations >= 1 && s.solver.iterations <= 1000,
           "WorldSettings::solver.iterations must be in 1..1000");
-  require(s.solver.type == SolverType::SoftStep || s.solver.type == SolverType::Pgs,
-          "WorldSettings::solver.type: " + std::string(solverName(s.solver.type)) +
-              " is not built yet (soft_step and pgs are)");
+  require(s.solver.relaxIterations >= 0 && s.solver.relaxIterations <= 1000,
+          "WorldSettings::solver.relaxIterations must be in 0..1000");
   validate(s.contact);
   require(s.threads >= 0 && s.threads <= 1024, "WorldSettings::threads must be in 0..1024");
 }

@@ -1,12 +1,15 @@
 // Bodies in contact, each case against its oracle: Newton's impact law, Coulomb friction on an
 // incline, stacks that stand, momentum conservation, no tunnelling, sleeping, determinism.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <numbers>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "inertia/collision/contact.h"
 #include "inertia/world/builders.h"
 #include "inertia/world/world.h"
 
@@ -321,4 +324,80 @@ TEST(ContactDynamics, WorldRayCastFindsTheNearestShape) {
   ASSERT_TRUE(hit);
   EXPECT_EQ(hit->body, ground);
   EXPECT_NEAR(hit->hit.fraction, Real(0.5), 1e-6);
+}
+
+// The broad phase keeps its pairs from step to step and re-queries only proxies whose fat box
+// changed; the narrow phase reuses manifolds of pairs that barely moved. Neither may lose a
+// contact: at every checked step, each pair of shapes that collide() finds touching by brute
+// force (all pairs, no broad phase, no cache) is among the world's contacts, also after a
+// body is destroyed and another teleported mid-run (which rebuild the pair set).
+TEST(ContactDynamics, NoContactIsMissedByPairCachingOrManifoldReuse) {
+  World world({.threads = 1, .sleeping = false});
+  addGround(world);
+  std::vector<BodyId> ids;
+  for (const BodyDesc& d : rain({.count = 120,
+                                 .lower = Vec3(-3, 1, -3),
+                                 .upper = Vec3(3, 9, 3),
+                                 .shape = Box{Vec3::Constant(Real(0.4))},
+                                 .seed = 3}))
+    ids.push_back(addBody(world, d));
+  const RigidBodySystem& rb = world.rigidBodies();
+  std::vector<ShapeId> shapes;
+  for (BodyId b : ids)
+    for (ShapeId s : rb.shapes(b)) shapes.push_back(s);
+  // The pairs that overlap now, by brute force; the next step's contacts come from these poses.
+  // With the deepest separation of each (m).
+  using Pair = std::pair<std::uint32_t, std::uint32_t>;
+  auto overlappingPairs = [&] {
+    std::vector<std::pair<Pair, Real>> pairs;
+    for (std::size_t i = 0; i < shapes.size(); ++i) {
+      if (!rb.isValid(shapes[i])) continue;
+      for (std::size_t j = i + 1; j < shapes.size(); ++j) {
+        if (!rb.isValid(shapes[j])) continue;
+        std::vector<ContactManifold> ms;
+        collide(rb.collider(shapes[i]), rb.shapeTransform(shapes[i]), rb.collider(shapes[j]),
+                rb.shapeTransform(shapes[j]), {}, ms);
+        Real deepest = 0;
+        for (const ContactManifold& m : ms)
+          for (int k = 0; k < m.pointCount; ++k)
+            deepest = std::min(deepest, m.points[std::size_t(k)].separation);
+        if (deepest < 0)
+          pairs.push_back({{std::min(shapes[i].index, shapes[j].index),
+                            std::max(shapes[i].index, shapes[j].index)},
+                           deepest});
+      }
+    }
+    return pairs;
+  };
+  int checked = 0, touching = 0;
+  for (int step = 1; step <= 240; ++step) {
+    if (step == 100) world.destroyBody(ids[7]);
+    if (step == 140)
+      world.rigidBodies().setTransform(ids[9], {Vec3(0, Real(0.5), 0), Quat::Identity()});
+    const bool check = step % 20 == 0;
+    const auto expected = check ? overlappingPairs() : decltype(overlappingPairs()){};
+    world.step(kDt);
+    if (!check) continue;
+    std::map<Pair, Real> found;  // deepest separation of each pair in the world's contacts
+    for (const ContactInfo& c : rb.contacts()) {
+      Real& deepest = found[{std::min(c.shapeA.index, c.shapeB.index),
+                             std::max(c.shapeA.index, c.shapeB.index)}];
+      for (int k = 0; k < c.manifold.pointCount; ++k)
+        deepest = std::min(deepest, c.manifold.points[std::size_t(k)].separation);
+    }
+    for (const auto& [key, deepest] : expected) {
+      ++touching;
+      const auto it = found.find(key);
+      ASSERT_TRUE(it != found.end())
+          << "step " << step << ": shapes " << key.first << " and " << key.second;
+      // A reused manifold moves rigidly with the shapes: its depth is off by at most the reuse
+      // distance plus the reuse angle times the lever of a point (half the box diagonal, 0.7 m).
+      const ContactTuning tuning{};
+      EXPECT_NEAR(it->second, deepest, tuning.reuseDistance + tuning.reuseAngle * Real(0.7))
+          << "step " << step << ": shapes " << key.first << " and " << key.second;
+    }
+    ++checked;
+  }
+  EXPECT_EQ(checked, 12);
+  EXPECT_GT(touching, 100);  // the check saw a pile, not empty space
 }

@@ -62,6 +62,15 @@ TEST(Scene, EveryIntegratorNameIsAccepted) {
   }
 }
 
+// The direct LCP solvers are accepted (they were refused before they were built).
+TEST(Scene, LcpSolversAreAccepted) {
+  for (std::string_view name : {"lcp_dantzig", "lcp_lemke"}) {
+    io::Scene s = parseScene(R"({"world": {"solver": {"type": ")" + std::string(name) + R"("}}})",
+                             "s.json");
+    EXPECT_EQ(solverName(s.world.solver.type), name);
+  }
+}
+
 struct BadCase {
   const char* text;
   const char* pointer;  // expected JSON pointer
@@ -116,7 +125,7 @@ INSTANTIATE_TEST_SUITE_P(
                     "shape": {"type": "sphere", "radius": 1}}]})", "/bodies/0/upper", "upper must be"},
         BadCase{R"({"bodies": [{"shapes": [{"type": "sphere", "radius": 1, "color": [2, 0, 0]}]}]})",
                 "/bodies/0/shapes/0/color", "[0, 1]"},
-        BadCase{R"({"world": {"solver": {"type": "lcp_lemke"}}})", "/world/solver/type", "not built yet"},
+        BadCase{R"({"world": {"solver": {"type": "lemke"}}})", "/world/solver/type", "unknown solver"},
         BadCase{R"({"joints": [{"type": "hinge"}]})", "/joints/0", "not implemented yet"},
         BadCase{R"({"world": {"a/b~c": 1}})", "/world/a~1b~0c", "unknown key"},
         BadCase{R"([1, 2])", "", "expected an object"},
@@ -234,4 +243,18 @@ TEST(Scene, ShippedScenesLoad) {
     ++count;
   }
   EXPECT_GE(count, 1);
+}
+
+TEST(Scene, ShapeColorsAreKeptForDrawing) {
+  io::Scene s = parseScene(R"({"bodies": [{"shapes": [
+      {"type": "sphere", "radius": 0.5, "color": [0.25, 0.5, 1]},
+      {"type": "box", "half_extents": [1, 1, 1]}]}]})",
+                           "colors.json");
+  ASSERT_EQ(s.bodies.size(), 1u);
+  ASSERT_EQ(s.bodies[0].shapes.size(), 2u);
+  ASSERT_TRUE(s.bodies[0].shapes[0].color.has_value());
+  EXPECT_TRUE(s.bodies[0].shapes[0].color->isApprox(Vec3(Real(0.25), Real(0.5), 1)));
+  EXPECT_FALSE(s.bodies[0].shapes[1].color.has_value());
+  SceneError e = errorOf(R"({"bodies": [{"shapes": [{"type": "sphere", "radius": 1, "color": [2, 0, 0]}]}]})");
+  EXPECT_EQ(e.pointer(), "/bodies/0/shapes/0/color") << e.what();
 }

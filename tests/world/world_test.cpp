@@ -60,3 +60,16 @@ TEST(World, SolverNamesRoundTrip) {
   SolverType unused{};
   EXPECT_FALSE(solverFromName("gauss", unused));
 }
+
+// A world accepts the direct LCP solvers (they were refused before they were built) and steps.
+TEST(World, AcceptsLcpSolvers) {
+  for (SolverType t : {SolverType::LcpDantzig, SolverType::LcpLemke}) {
+    World world({.solver = {.type = t}});
+    const BodyId ground = world.createBody({.type = BodyType::Static});
+    world.addShape(ground, Plane{Vec3::UnitY(), 0});
+    const BodyId box = world.createBody({.position = Vec3(0, Real(0.5), 0)});
+    world.addShape(box, Box{Vec3::Constant(Real(0.5))});
+    for (int i = 0; i < 30; ++i) world.step(Real(1.0 / 60));
+    EXPECT_NEAR(world.transform(box).p.y(), Real(0.5), Real(0.01)) << solverName(t);
+  }
+}

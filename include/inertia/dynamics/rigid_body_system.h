@@ -27,8 +27,16 @@ namespace inertia {
 ///   after the substeps, warm starting.
 /// - Pgs: sequential impulses (projected Gauss-Seidel) on rigid rows with warm starting and
 ///   Baumgarte position correction, once per substep.
-/// - LcpDantzig, LcpLemke: direct LCP solvers for small systems (not built yet: a world
-///   refuses them).
+/// - LcpDantzig, LcpLemke: direct LCP solvers for small systems (validation and teaching): in
+///   each substep, in place of the pgs iterations, each island's contact rows (same rows and
+///   Baumgarte bias as pgs) form one dense LCP on the Delassus matrix J M^-1 J^T, solved
+///   exactly. Dantzig (Baraff 1994's principal pivoting, ODE's boxed "findex" LCP): normal,
+///   two friction rows per point boxed by mu times the normal impulse (friction pyramid), and
+///   the rolling and spinning rows. Lemke (complementary pivoting): the Stewart-Trinkle
+///   polygonal cone (|t1| + |t2| <= mu n, four directions and a sliding-speed slack) and the
+///   rolling and spinning rows likewise. An island whose LCP exceeds 192 unknowns (about 60
+///   contact points for Dantzig, 30 for Lemke), or whose LCP fails, is solved by the pgs
+///   iterations (`iterations` of them) for that substep instead.
 enum class SolverType { SoftStep, Pgs, LcpDantzig, LcpLemke };
 
 /// The scene-file name of a solver ("soft_step", "pgs", "lcp_dantzig", "lcp_lemke").
@@ -40,7 +48,12 @@ std::string_view solverNames();
 
 struct SolverSettings {
   SolverType type = SolverType::SoftStep;
-  int iterations = 8;  ///< Velocity iterations per substep (1..1000).
+  /// Velocity iterations per substep (1..1000). Four keep a 40-base pyramid of boxes standing
+  /// with soft_step (bench/rigid_bodies_bench.cpp).
+  int iterations = 4;
+  /// soft_step only: relaxation passes per substep, after the position update and without the
+  /// position bias (0..1000). Box2D v3 makes one; more remove more of the push-out velocity.
+  int relaxIterations = 1;
 };
 
 /// Contact tuning (defaults as Box2D v3, in metres and seconds).
@@ -56,6 +69,13 @@ struct ContactTuning {
   /// A body whose step displacement exceeds this fraction of its smallest extent is treated as
   /// a bullet for that step (speculative contacts over its whole motion).
   Real bulletFraction = Real(0.25);
+  /// Manifold reuse (as Jolt's body-pair cache, tighter): a pair of convex shapes whose relative
+  /// pose moved less than these since its manifold was computed keeps the manifold's features,
+  /// carried rigidly with the bodies (points and normal in the shapes' frames, separations
+  /// recomputed), instead of running the narrow phase again. Distance (m) and angle (rad); 0
+  /// for either turns reuse off.
+  Real reuseDistance = Real(0.001);
+  Real reuseAngle = Real(0.005);
   Real sleepSpeed = Real(0.05);  ///< Speed (m/s, angular times extent) below which a body rests.
   Real timeToSleep = Real(0.5);  ///< Rest time (s) after which an island falls asleep.
 };

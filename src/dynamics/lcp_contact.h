@@ -1,0 +1,57 @@
+// Internal: the contact rows of a substep solved as one LCP per island, directly (Dantzig or
+// Lemke, see lcp.h), in place of the Gauss-Seidel iterations of the pgs solver.
+//
+// The rows are those of contact_solver.h, rigid, with the pgs solver's right-hand side: the
+// normal row asks for J v+ + bias >= 0 with Baumgarte's bias on the overlap beyond the slop
+// (speculative rows: the gap over the substep); restitution is applied after the substeps as
+// in pgs. From the island's rows the Delassus matrix A = J M^-1 J^T (dense) and b = J v + bias.
+// - lcp_dantzig: a boxed LCP. Per point: normal in [0, inf), the two friction rows each in
+//   [-mu z_n, mu z_n] (a friction pyramid of four faces, the square circumscribing Coulomb's
+//   disc); per manifold the two rolling rows and the spinning row in
+//   [-c sum z_n, c sum z_n] with c the lever arm.
+// - lcp_lemke: a standard LCP in the Stewart-Trinkle / Anitescu-Potra form: each friction row
+//   pair becomes four direction impulses beta >= 0 (+-t1, +-t2) and a slack gamma (the
+//   sliding speed) with 0 <= beta _|_ D^T v+ + gamma >= 0 and 0 <= gamma _|_ mu z_n - sum beta
+//   >= 0: the inscribed pyramid |z_t1| + |z_t2| <= mu z_n. Rolling rows likewise (four
+//   directions), spinning with two.
+// Both are warm started from the last substep's impulses: the active set they imply is solved
+// with one factorisation and kept only if it passes the complementarity check (a stack at
+// rest keeps its set, so the pivoting runs only when contacts change).
+// Both solve the rows Jacobi-scaled (unit diagonal) with A + 1e-8 I: a box resting on four
+// points has 12 rows on 6 degrees of freedom, so A is only semidefinite and the split of the
+// load between the points is not unique; the regularisation picks the least-squares split and
+// changes the velocities by 1e-8 of an impulse's effect.
+#pragma once
+
+#include <vector>
+
+#include "contact_solver.h"
+
+namespace inertia::detail {
+
+enum class LcpMethod { Dantzig, Lemke };
+
+/// Largest LCP (number of unknowns) an island is solved with directly. A Dantzig pass costs
+/// O(n) pivots of an O(n^3) factorisation, so beyond this the direct solve stops being "small";
+/// such islands, and islands whose LCP fails (a pivot cap, an infeasible problem), fall back
+/// to the pgs iterations for that substep.
+inline constexpr int kMaxLcpUnknowns = 192;
+
+struct LcpContactStats {
+  int islands = 0;         ///< Islands with constraints, summed over calls.
+  int direct = 0;          ///< Of those, solved by the LCP.
+  int fallbacks = 0;       ///< Solved by pgs instead (too large, or the LCP failed).
+  int largest = 0;         ///< Most unknowns of one island's LCP.
+  double maxResidual = 0;  ///< Largest natural residual of a direct solve (scaled units).
+};
+
+/// One substep's contact solve: every island of `cs` (constraints sharing a solver body) as
+/// one LCP; the impulses are applied to `bodies` and stored in the constraints (normalImpulse,
+/// tangentImpulse, rollingImpulse, spinningImpulse, maxNormalImpulse), so events and the
+/// next substep's fallback warm start see them. `fallbackIterations` pgs iterations for the
+/// islands that are not solved directly.
+void solveContactsLcp(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
+                      const BiasMode& mode, LcpMethod method, int fallbackIterations,
+                      LcpContactStats* stats = nullptr);
+
+}  // namespace inertia::detail
