@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "render_command.h"
 #include "run_command.h"
 
 namespace {
@@ -50,7 +51,28 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(std::int64_t(1), std::int64_t(1) << 40));
   runCmd->add_option("--record-particles", run.recordParticles, "Write particle states as CSV");
   runCmd->add_option("--stats", run.stats, "Write a JSON summary");
+  runCmd->add_option("--energy", run.energy,
+                     "Write kinetic, potential, total energy and momenta per step as CSV");
   runCmd->add_flag("--quiet,-q", run.quiet, "Print nothing but errors");
+
+  RenderOptions render;
+  CLI::App* renderCmd = app.add_subcommand("render", "Draw a scene offscreen to PNG, MP4 or GIF");
+  renderCmd->add_option("scene", render.scene, "Scene file (JSON)")->required();
+  renderCmd
+      ->add_option("--out,-o", render.out,
+                   "Output: FILE.png (one frame), FRAME_%04d.png (a sequence), FILE.mp4 or FILE.gif")
+      ->required();
+  renderCmd->add_option("--duration", render.duration, "Simulated seconds of video, default 10")
+      ->check(kFinitePositive);
+  renderCmd->add_option("--time", render.time, "Time (s) of a single PNG, default the duration")
+      ->check(CLI::NonNegativeNumber);
+  renderCmd->add_option("--size", render.size, "Image size WIDTHxHEIGHT, default 1280x720");
+  renderCmd->add_option("--fps", render.fps, "Frames per second, default 30")->check(kFinitePositive);
+  renderCmd->add_option("--threads", render.threads, "Worker threads (0: all cores)")
+      ->check(CLI::Range(0, 1024));
+  renderCmd->add_option("--samples", render.samples, "Multisamples per pixel (1: none), default 4")
+      ->check(CLI::Range(1, 16));
+  renderCmd->add_flag("--quiet,-q", render.quiet, "Print nothing but errors");
 
   std::string validateFile;
   CLI::App* validateCmd = app.add_subcommand("validate", "Check a scene file and report errors");
@@ -68,6 +90,7 @@ int main(int argc, char** argv) {
   try {
     if (runCmd->parsed()) return runScene(run);
     if (validateCmd->parsed()) return validateScene(validateFile);
+    if (renderCmd->parsed()) return renderScene(render);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "inertia: internal error: %s\n", e.what());
     return kInternalError;

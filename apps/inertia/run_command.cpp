@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "energy_log.h"
 #include "inertia/core/error.h"
 #include "inertia/io/recording.h"
 #include "inertia/io/scene.h"
@@ -134,6 +135,15 @@ int runScene(const RunOptions& o) {
     std::fprintf(stderr, "inertia: --record-particles: %s\n", e.what());
     return kBadInput;
   }
+  std::unique_ptr<EnergyLog> energyLog;
+  try {
+    if (!o.energy.empty()) energyLog = std::make_unique<EnergyLog>(o.energy);
+  } catch (const std::runtime_error& e) {
+    std::fprintf(stderr, "inertia: --energy: %s\n", e.what());
+    return kBadInput;
+  }
+  std::vector<Real> gravityScale;  // per body, in creation order (as bodies() lists them)
+  for (const BodyDesc& d : scene.bodies) gravityScale.push_back(d.settings.gravityScale);
   const std::vector<BodyId> bodyIds = world->rigidBodies().bodies();
   auto record = [&] {
     if (recorder) {
@@ -156,16 +166,19 @@ int runScene(const RunOptions& o) {
   Progress progress(!o.quiet, steps);
   double wall = 0;
   record();  // the initial state at time 0
+  if (energyLog) energyLog->write(measureEnergy(*world, gravityScale));
   for (std::int64_t i = 0; i < steps; ++i) {
     auto t0 = Clock::now();
     world->step(scene.world.dt);
     wall += seconds(Clock::now() - t0);
     if ((i + 1) % o.recordEvery == 0) record();
+    if (energyLog) energyLog->write(measureEnergy(*world, gravityScale));
     progress.update(i + 1);
   }
   progress.finish();
   if (recorder) recorder->close();
   if (particleRecorder) particleRecorder->close();
+  if (energyLog) energyLog->close();
 
   if (!o.stats.empty()) {
     std::ofstream out(o.stats);

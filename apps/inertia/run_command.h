@@ -20,6 +20,7 @@ struct RunOptions {
   std::int64_t recordEvery = 1;       ///< Record every K-th step.
   std::string stats;                  ///< JSON summary.
   std::string recordParticles;        ///< Particle CSV (DESIGN.md section 6).
+  std::string energy;                 ///< Energy and momenta per step (CSV).
   bool quiet = false;                 ///< No summary or progress on the terminal.
 };
 

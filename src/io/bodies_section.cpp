@@ -43,11 +43,12 @@ Material readMaterialRef(const Node& owner, const MaterialTable& table, const Ma
   return readMaterialObject(n, fallback);
 }
 
-void readColor(const Node& owner) {
-  if (!owner.has("color")) return;
+std::optional<Vec3> readColor(const Node& owner) {
+  if (!owner.has("color")) return std::nullopt;
   Node c = owner.at("color");
   const Vec3 rgb = c.vec3();
   if ((rgb.array() < 0).any() || (rgb.array() > 1).any()) c.fail("color components must be in [0, 1]");
+  return rgb;
 }
 
 // A shape with its material; checks what a body of `type` may carry.
@@ -56,7 +57,7 @@ ShapeDesc readBodyShape(const Node& n, BodyType type, const MaterialTable& table
   ShapeDesc d;
   d.shape = readShape(n, d.local, {"material", "color"});
   d.material = readMaterialRef(n, table, bodyMaterial);
-  readColor(n);
+  d.color = readColor(n);
   const ShapeType st = d.shape.type();
   if ((st == ShapeType::Plane || st == ShapeType::HeightField) && type != BodyType::Static)
     n.fail(std::string(st == ShapeType::Plane ? "a plane" : "a height field") +

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -19,6 +20,8 @@ struct ShapeDesc {
   Shape shape = Sphere{Real(0.5)};
   Material material{};
   Transform local{};  ///< Relative to the body's origin.
+  /// Drawing colour (rgb, 0..1) from the scene's "color"; the simulation ignores it.
+  std::optional<Vec3> color{};
 };
 
 /// A body with its shapes, ready to add to a world.

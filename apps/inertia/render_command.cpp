@@ -1,0 +1,191 @@
+#include "render_command.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <vector>
+
+#include "camera.h"
+#include "frame_writer.h"
+#include "inertia/core/error.h"
+#include "inertia/io/scene.h"
+#include "offscreen.h"
+#include "renderer.h"
+#include "run_command.h"
+
+namespace inertia::app {
+
+namespace {
+
+constexpr int kMaxSide = 8192;
+
+bool parseSize(const std::string& s, int& width, int& height) {
+  int w = 0, h = 0, used = 0;
+  if (std::sscanf(s.c_str(), "%dx%d%n", &w, &h, &used) != 2 || used != int(s.size())) return false;
+  if (w < 1 || h < 1 || w > kMaxSide || h > kMaxSide) return false;
+  width = w;
+  height = h;
+  return true;
+}
+
+// Whole steps nearest to time t (s).
+std::int64_t stepsAt(double t, double dt) { return std::int64_t(std::llround(t / dt)); }
+
+// Colours of the scene's shapes, in the order instantiate() creates bodies and shapes.
+viewer::ShapeColors shapeColors(const io::Scene& scene) {
+  viewer::ShapeColors colors;
+  for (const BodyDesc& body : scene.bodies) {
+    std::vector<std::optional<Vec3>>& list = colors.emplace_back();
+    for (const ShapeDesc& shape : body.shapes) list.push_back(shape.color);
+  }
+  return colors;
+}
+
+// Bounds for the default camera: the world as loaded and each particle emitter's position
+// (particles may not exist yet at time 0).
+Aabb framingBounds(const World& world, const io::Scene& scene) {
+  Aabb b = viewer::sceneBounds(world);
+  for (const io::ParticleSystemDesc& ps : scene.particleSystems) {
+    for (const EmitterSettings& e : ps.emitters) b.extend(e.pose.p);
+  }
+  if (b.isValid() && (b.upper - b.lower).maxCoeff() < Real(2)) b = b.inflated(Real(1));
+  return b;
+}
+
+// Progress on a terminal only, as `inertia run` does.
+class Progress {
+ public:
+  Progress(bool enabled, std::int64_t total)
+      : enabled_(enabled && isatty(STDERR_FILENO)), total_(total) {}
+  void update(std::int64_t done) {
+    if (!enabled_) return;
+    auto now = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(now - last_).count() < 0.2 && done < total_) return;
+    last_ = now;
+    std::fprintf(stderr, "\rframe %lld/%lld (%.0f%%)", (long long)done, (long long)total_,
+                 100.0 * double(done) / double(total_));
+  }
+  void finish() {
+    if (enabled_) std::fprintf(stderr, "\r%*s\r", 40, "");
+  }
+
+ private:
+  bool enabled_;
+  std::int64_t total_;
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+// Out of line: messages built by concatenation (GCC 12's false -Warray-bounds when inlined).
+[[gnu::noinline]] int badInput(const char* what, const std::string& message) {
+  std::fprintf(stderr, "inertia: %s%s\n", what, message.c_str());
+  return kBadInput;
+}
+
+}  // namespace
+
+int renderScene(const RenderOptions& o) {
+  int width = 0, height = 0;
+  if (!parseSize(o.size, width, height))
+    return badInput("--size: ", "expected WIDTHxHEIGHT in pixels (1.." + std::to_string(kMaxSide) +
+                                    " each, e.g. 1280x720), got \"" + o.size + "\"");
+  viewer::OutputKind kind;
+  try {
+    kind = viewer::outputKind(o.out);
+  } catch (const viewer::OutputError& e) {
+    return badInput("--out: ", e.what());
+  }
+  const bool isVideo = kind == viewer::OutputKind::Mp4 || kind == viewer::OutputKind::Gif;
+  if (kind == viewer::OutputKind::Mp4 && (width % 2 || height % 2))
+    return badInput("--size: ", "MP4 (yuv420p) needs an even width and height, got " + o.size);
+  if (isVideo && !viewer::findExecutable("ffmpeg"))
+    return badInput("--out: ", o.out +
+                                   ": writing video needs ffmpeg, which is not on PATH "
+                                   "(install the ffmpeg package)");
+  if (o.time && !(std::isfinite(*o.time) && *o.time >= 0))
+    return badInput("--time: ", "must be a finite number >= 0");
+  if (o.time && kind != viewer::OutputKind::Png)
+    return badInput("--time: ", "only for a single .png; sequences and videos use --duration");
+
+  io::Scene scene;
+  try {
+    scene = io::loadScene(o.scene);
+  } catch (const io::SceneError& e) {
+    std::fprintf(stderr, "inertia: %s\n", e.what());
+    return kBadInput;
+  }
+  if (o.threads) scene.world.threads = *o.threads;
+  std::unique_ptr<World> world;
+  try {
+    world = io::instantiate(scene);
+  } catch (const InvalidArgument& e) {
+    std::fprintf(stderr, "inertia: %s: %s\n", o.scene.c_str(), e.what());
+    return kBadInput;
+  }
+
+  // Frame k shows the state after round(t_k / dt) whole fixed steps, t_k = k / fps (no
+  // interpolation between steps): frame k is exactly what `inertia run --steps` reaches.
+  const double dt = double(scene.world.dt);
+  const double duration = o.duration.value_or(10.0);
+  std::vector<double> times;
+  if (kind == viewer::OutputKind::Png) {
+    times.push_back(o.time.value_or(duration));
+  } else {
+    const double frames = std::max(1.0, std::round(duration * o.fps));
+    if (frames > 1e6) return badInput("--duration: ", "more than a million frames");
+    for (std::int64_t k = 0; k < std::int64_t(frames); ++k) times.push_back(double(k) / o.fps);
+  }
+
+  try {
+    viewer::EglContext context;
+    viewer::OffscreenTarget target(width, height, o.samples);
+    viewer::Renderer renderer;
+    renderer.setShapeColors(shapeColors(scene));
+    viewer::CameraView camera;
+    if (scene.camera) {
+      camera.position = scene.camera->position.cast<float>();
+      camera.target = scene.camera->target.cast<float>();
+      camera.fovY = float(scene.camera->fov);
+      viewer::fitClipPlanes(camera, framingBounds(*world, scene));
+    } else {
+      camera = viewer::frameBounds(framingBounds(*world, scene), 45, float(width) / float(height));
+    }
+
+    std::unique_ptr<viewer::VideoEncoder> video;
+    if (isVideo) video = std::make_unique<viewer::VideoEncoder>(o.out, kind, width, height, o.fps);
+
+    Progress progress(!o.quiet, std::int64_t(times.size()));
+    for (std::size_t k = 0; k < times.size(); ++k) {
+      const std::int64_t steps = stepsAt(times[k], dt);
+      while (world->stepCount() < steps) world->step(scene.world.dt);
+      target.bind();
+      renderer.draw(*world, camera, width, height);
+      const std::vector<std::uint8_t> rgb = target.readRgb();
+      if (kind == viewer::OutputKind::Png)
+        viewer::writePng(o.out, width, height, rgb);
+      else if (kind == viewer::OutputKind::PngSequence)
+        viewer::writePng(viewer::sequencePath(o.out, std::int64_t(k)), width, height, rgb);
+      else
+        video->write(rgb);
+      progress.update(std::int64_t(k + 1));
+    }
+    progress.finish();
+    if (video) video->finish();
+    if (!o.quiet) {
+      std::printf("%s: %zu frame%s of %dx%d to %s (%lld steps, %.4g s simulated)\n",
+                  o.scene.c_str(), times.size(), times.size() == 1 ? "" : "s", width, height,
+                  o.out.c_str(), (long long)world->stepCount(), world->time());
+    }
+  } catch (const viewer::OutputError& e) {
+    std::fprintf(stderr, "inertia: --out: %s\n", e.what());
+    return kBadInput;
+  } catch (const viewer::GlError& e) {
+    std::fprintf(stderr, "inertia: render: %s\n", e.what());
+    return kInternalError;
+  }
+  return kOk;
+}
+
+}  // namespace inertia::app
