@@ -6,6 +6,8 @@
 // never NaN, and allocate nothing.
 #pragma once
 
+#include <cstdint>
+#include <limits>
 #include <optional>
 
 #include "inertia/collision/collider.h"
@@ -58,5 +60,53 @@ std::optional<Penetration> penetration(const Collider& a, const Transform& poseA
 
 /// True when convex `a` and `b` overlap or touch (GJK only; no EPA).
 bool overlap(const Collider& a, const Transform& poseA, const Collider& b, const Transform& poseB);
+
+/// The closest points of two triangles.
+struct TriangleDistance {
+  /// Distance between the triangles (m), >= 0; 0 when they intersect or touch.
+  Real distance = 0;
+  /// Closest point on the first triangle (m); when they intersect, a common point.
+  Vec3 pointA = Vec3::Zero();
+  /// Closest point on the second triangle (m); equal to pointA when they intersect.
+  Vec3 pointB = Vec3::Zero();
+};
+
+/// The exact distance between triangles (a0, a1, a2) and (b0, b1, b2), both in one frame: 0 when
+/// an edge of one crosses the other (Moller-Trumbore on the six edges, the ones that straddle the
+/// other's plane), else the nearest of the nine edge-edge segment pairs and the six vertex-face
+/// projections (Ericson, Real-Time Collision Detection, 5.1.9 and 5.1.5), which contain the
+/// closest pair of two disjoint triangles. Never NaN for finite input, also for zero-area
+/// triangles (a sliver is treated as its edges).
+TriangleDistance triangleDistance(const Vec3& a0, const Vec3& a1, const Vec3& a2, const Vec3& b0,
+                                  const Vec3& b1, const Vec3& b2);
+
+/// The closest points of two triangle meshes.
+struct MeshDistance {
+  /// Distance between the meshes' surfaces (m), >= 0; 0 when two triangles intersect or touch.
+  /// Surfaces only: a mesh lying wholly inside a closed mesh is at a positive distance.
+  Real distance = 0;
+  Vec3 pointA = Vec3::Zero();   ///< Closest point on A's triangle (m, world).
+  Vec3 pointB = Vec3::Zero();   ///< Closest point on B's triangle (m, world).
+  std::uint32_t triangleA = 0;  ///< A's mesh triangle holding pointA.
+  std::uint32_t triangleB = 0;  ///< B's mesh triangle holding pointB.
+};
+
+/// The distance between triangle meshes `a` at `poseA` and `b` at `poseB` (both colliders of
+/// ShapeType::Mesh, else InvalidArgument), or nothing when it exceeds `maxDistance` (m). Both
+/// BVHs traversed together by branch and bound: pairs of nodes visited nearest box pair first
+/// (lower bound: the larger of the box gaps in A's frame and in B's, each tree's boxes carried
+/// into the other's frame), pairs no nearer than the best so far pruned, triangleDistance on
+/// the pairs of two leaves (skipped when their boxes or planes are farther than the best). A
+/// first pass with a zero bound finds an intersecting pair, if any, and stops there. Computed in
+/// A's frame: exact up to the rounding of B's corners carried into it (a few ulps of the
+/// coordinates). Allocates nothing.
+std::optional<MeshDistance> meshDistance(const Collider& a, const Transform& poseA,
+                                         const Collider& b, const Transform& poseB,
+                                         Real maxDistance = std::numeric_limits<Real>::infinity());
+
+/// True when two triangle meshes intersect or touch (some pair of triangles shares a point):
+/// meshDistance with maxDistance 0, which stops at the first intersecting pair.
+bool meshesOverlap(const Collider& a, const Transform& poseA, const Collider& b,
+                   const Transform& poseB);
 
 }  // namespace inertia
