@@ -13,14 +13,14 @@ namespace {
 // incident face (kIncidentTag set) or of the reference face whose side plane made the edge.
 // A vertex's features are its incoming and outgoing tags, which is what keeps ids stable: they
 // name the edges of the two faces that cut it, not its position in the arrays.
-struct ClipVertex {
-  Vec3 p = Vec3::Zero();
-  std::uint32_t tag = 0;
+struct ClipVertex {  // uninitialised, as ContactCandidate: push() sets both
+  Vec3 p;
+  std::uint32_t tag;
 };
 constexpr std::uint32_t kIncidentTag = 0x80000000u;
 
 struct ClipPolygon {
-  std::array<ClipVertex, kMaxClipVertices> v{};
+  std::array<ClipVertex, kMaxClipVertices> v;  // the first `count` are set
   int count = 0;
   void push(const Vec3& p, std::uint32_t tag) {
     if (count < kMaxClipVertices) v[std::size_t(count++)] = {p, tag};
@@ -31,10 +31,15 @@ struct ClipPolygon {
 void clipPolygon(const ClipPolygon& in, const Vec3& n, Real offset, std::uint32_t planeTag,
                  ClipPolygon& out) {
   out.count = 0;
+  if (in.count == 0) return;
+  // Edges (a, b) = (v[i], v[i + 1]), the last closing the loop; each vertex's plane distance
+  // is computed once (no modulo: an integer division per vertex cost more than the clipping).
+  Real db = n.dot(in.v[0].p) - offset;
   for (int i = 0; i < in.count; ++i) {
     const ClipVertex& a = in.v[std::size_t(i)];
-    const ClipVertex& b = in.v[std::size_t((i + 1) % in.count)];
-    const Real da = n.dot(a.p) - offset, db = n.dot(b.p) - offset;
+    const ClipVertex& b = in.v[std::size_t(i + 1 < in.count ? i + 1 : 0)];
+    const Real da = db;
+    db = n.dot(b.p) - offset;
     if (da <= 0) {
       if (db <= 0) {
         out.push(a.p, a.tag);
@@ -90,7 +95,7 @@ int clipFaces(const PolyView& ref, int refFace, const PolyView& inc, int incFace
     const ClipVertex& v = poly.v[std::size_t(i)];
     const Real sep = fr.normal.dot(v.p) - fr.offset;
     if (sep > speculativeDistance) continue;
-    const std::uint32_t tagIn = poly.v[std::size_t((i + poly.count - 1) % poly.count)].tag;
+    const std::uint32_t tagIn = poly.v[std::size_t(i > 0 ? i - 1 : poly.count - 1)].tag;
     const std::uint32_t tagOut = v.tag;
     const bool inIncident = tagIn & kIncidentTag, outIncident = tagOut & kIncidentTag;
     const std::uint32_t hIn = tagIn & ~kIncidentTag, hOut = tagOut & ~kIncidentTag;
@@ -124,7 +129,7 @@ int clipFaces(const PolyView& ref, int refFace, const PolyView& inc, int incFace
 int selectContacts(const ContactCandidate* points, int count, const Vec3& normal,
                    std::array<int, 4>& keep) {
   // Unique ids only (a degenerate clip may repeat a feature pair).
-  std::array<int, kMaxClipVertices> idx{};
+  std::array<int, kMaxClipVertices> idx;  // the first n are set
   int n = 0;
   for (int i = 0; i < count && n < kMaxClipVertices; ++i) {
     bool seen = false;

@@ -94,6 +94,16 @@ struct EdgeQuery {
 EdgeQuery queryEdgeDirections(const PolyView& a, const PolyView& b, const Transform& bToA);
 inline constexpr Real kParallelSine = Real(1e-4);
 
+/// The three queries of two boxes (half extents hA, hB) in closed form: faces from |t| and |R|
+/// (the 6 face axes of the seeds' 15-axis OBB test), and the 9 edge-pair axes e_i x R e_j with
+/// their supporting edges, instead of the 144 edge pairs of queryEdgeDirections. Same
+/// conventions and face/edge indices as the general queries on makePolyView(Box) views.
+struct BoxBoxQuery {
+  FaceQuery faceA, faceB;
+  EdgeQuery edge;
+};
+BoxBoxQuery queryBoxBox(const Vec3& hA, const Vec3& hB, const Transform& bToA);
+
 /// Gauss-map arcs (a, b) and (c, d) intersect on the unit sphere; bxa and dxc are the normals of
 /// the arcs' planes (b x a and d x c for arcs shorter than half a circle; given explicitly so a
 /// half great circle, as a flat polygon's edge has, is defined by its orientation).
@@ -107,12 +117,14 @@ inline bool arcsIntersect(const Vec3& a, const Vec3& b, const Vec3& bxa, const V
 
 // ---- Contact construction ----------------------------------------------------------------
 
-/// A candidate contact point in a local frame, before reduction.
+/// A candidate contact point in a local frame, before reduction. Left uninitialised (arrays of
+/// kMaxClipVertices of them sit on the stack of every polyhedron pair, and zeroing them cost
+/// more than the box-box SAT): whoever fills one sets all four members.
 struct ContactCandidate {
-  Vec3 pointA = Vec3::Zero();
-  Vec3 pointB = Vec3::Zero();
-  Real separation = 0;
-  std::uint32_t id = 0;
+  Vec3 pointA;
+  Vec3 pointB;
+  Real separation;
+  std::uint32_t id;
 };
 
 /// Capacity of the fixed-size clipping polygons: an incident face clipped by a reference face
@@ -157,6 +169,9 @@ void closestSegmentPoints(const Vec3& p0, const Vec3& p1, const Vec3& q0, const 
 bool collidePolyhedra(const PolyView& a, const Transform& poseA, const PolyView& b,
                       const Transform& poseB, const ContactSettings& settings,
                       ContactManifold& m);
+/// collidePolyhedra for two boxes, with the closed-form queries of queryBoxBox.
+bool collideBoxes(const Box& boxA, const Transform& poseA, const Box& boxB,
+                  const Transform& poseB, const ContactSettings& settings, ContactManifold& m);
 inline constexpr Real kAxisRelTolerance = Real(0.05);
 inline constexpr Real kAxisAbsTolerance = Real(0.5e-3);  // m
 

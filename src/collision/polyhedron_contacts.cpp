@@ -78,19 +78,14 @@ Vec3 capsuleOffset(const Vec3& n, const Vec3& axis, Real t) {
   return a2 > 0 ? normalizedOr(n - (along / a2) * axis, n) : n;
 }
 
-bool collidePolyhedra(const PolyView& a, const Transform& poseA, const PolyView& b,
-                      const Transform& poseB, const ContactSettings& settings,
-                      ContactManifold& m) {
-  const Real spec = settings.speculativeDistance;
-  const Transform bToA = poseA.inverse() * poseB;
-  const Transform aToB = poseB.inverse() * poseA;
-  const FaceQuery faceA = queryFaceDirections(a, b, bToA);
-  if (faceA.separation > spec) return false;
-  const FaceQuery faceB = queryFaceDirections(b, a, aToB);
-  if (faceB.separation > spec) return false;
-  const EdgeQuery edge = queryEdgeDirections(a, b, bToA);
-  if (edge.separation > spec) return false;
+namespace {
 
+// The manifold from the three SAT queries of a touching pair (none above the speculative
+// distance): the reference face clipped, or the closest points of the edge pair.
+bool polyhedraManifold(const PolyView& a, const Transform& poseA, const PolyView& b,
+                       const Transform& poseB, const Transform& bToA, const Transform& aToB,
+                       const FaceQuery& faceA, const FaceQuery& faceB, const EdgeQuery& edge,
+                       Real spec, ContactManifold& m) {
   const bool useB = clearlyBetter(faceB.separation, faceA.separation);
   const Real faceSep = useB ? faceB.separation : faceA.separation;
   const bool useEdge = edge.edgeA >= 0 && clearlyBetter(edge.separation, faceSep);
@@ -112,6 +107,36 @@ bool collidePolyhedra(const PolyView& a, const Transform& poseA, const PolyView&
     if (edge.edgeA < 0) return false;
   }
   return edgeContact(a, poseA, b, bToA, edge, m);
+}
+
+}  // namespace
+
+bool collidePolyhedra(const PolyView& a, const Transform& poseA, const PolyView& b,
+                      const Transform& poseB, const ContactSettings& settings,
+                      ContactManifold& m) {
+  const Real spec = settings.speculativeDistance;
+  const Transform bToA = poseA.inverse() * poseB;
+  const Transform aToB = poseB.inverse() * poseA;
+  const FaceQuery faceA = queryFaceDirections(a, b, bToA);
+  if (faceA.separation > spec) return false;
+  const FaceQuery faceB = queryFaceDirections(b, a, aToB);
+  if (faceB.separation > spec) return false;
+  const EdgeQuery edge = queryEdgeDirections(a, b, bToA);
+  if (edge.separation > spec) return false;
+  return polyhedraManifold(a, poseA, b, poseB, bToA, aToB, faceA, faceB, edge, spec, m);
+}
+
+bool collideBoxes(const Box& boxA, const Transform& poseA, const Box& boxB,
+                  const Transform& poseB, const ContactSettings& settings, ContactManifold& m) {
+  const Real spec = settings.speculativeDistance;
+  const Transform bToA = poseA.inverse() * poseB;
+  const BoxBoxQuery q = queryBoxBox(boxA.halfExtents, boxB.halfExtents, bToA);
+  if (q.faceA.separation > spec || q.faceB.separation > spec || q.edge.separation > spec)
+    return false;
+  PolyStorage sa, sb;
+  const PolyView a = makePolyView(boxA, sa), b = makePolyView(boxB, sb);
+  return polyhedraManifold(a, poseA, b, poseB, bToA, poseB.inverse() * poseA, q.faceA, q.faceB,
+                           q.edge, spec, m);
 }
 
 bool collidePolyhedronCapsule(const PolyView& a, const Transform& poseA, const Capsule& capsule,
@@ -263,6 +288,8 @@ PolyView viewOf(const Collider& c, PolyStorage& storage) {
 bool collidePolyhedronPair(const Collider& a, const Transform& poseA, const Collider& b,
                            const Transform& poseB, const ContactSettings& settings,
                            ContactManifold& m) {
+  if (a.type() == ShapeType::Box && b.type() == ShapeType::Box)
+    return collideBoxes(a.shape().get<Box>(), poseA, b.shape().get<Box>(), poseB, settings, m);
   PolyStorage sa, sb;
   return collidePolyhedra(viewOf(a, sa), poseA, viewOf(b, sb), poseB, settings, m);
 }
