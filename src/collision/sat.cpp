@@ -201,6 +201,17 @@ EdgeQuery queryEdgeDirections(const PolyView& a, const PolyView& b, const Transf
     directionsB[std::size_t(j)] = R * b.edgeDirection(j);
     originsB[std::size_t(j)] = R * b.vertices[b.edges[j].v0] + bToA.p;
   }
+  // Between two solids the arc test's first condition, B's arc crossing the plane of A's arc,
+  // is the sign change of n . dA between B's two face normals: taken once per face of B for
+  // each edge of A (F_B dot products instead of 2 E_B), it rejects most pairs with a multiply.
+  // The products are the very ones arcsIntersect forms ((-n) . (-d) = n . d exactly).
+  // The candidates are gathered without branching (a stored index advances only when the
+  // test passes), so the unpredictable test costs no mispredicted jumps.
+  thread_local std::vector<Real> sideB;
+  thread_local std::vector<int> candidates;
+  const bool presort = !a.flat && !b.flat;
+  sideB.resize(std::size_t(b.faceCount));
+  candidates.resize(std::size_t(b.edgeCount));
   EdgeQuery best;
   for (int i = 0; i < a.edgeCount; ++i) {
     const HullEdge& ea = a.edges[i];
@@ -209,7 +220,18 @@ EdgeQuery queryEdgeDirections(const PolyView& a, const PolyView& b, const Transf
     const Vec3 pa = a.vertices[ea.v0];
     const Vec3 da = a.edgeDirection(i);
     const Vec3 outA = a.edgeOutward(i);
-    for (int j = 0; j < b.edgeCount; ++j) {
+    int count = 0;
+    if (presort) {
+      for (int f = 0; f < b.faceCount; ++f) sideB[std::size_t(f)] = normalsB[std::size_t(f)].dot(da);
+      for (int j = 0; j < b.edgeCount; ++j) {
+        candidates[std::size_t(count)] = j;
+        count += sideB[b.edges[j].face0] * sideB[b.edges[j].face1] < 0;
+      }
+    } else {
+      for (int j = 0; j < b.edgeCount; ++j) candidates[std::size_t(count++)] = j;
+    }
+    for (int c = 0; c < count; ++c) {
+      const int j = candidates[std::size_t(c)];
       const HullEdge& eb = b.edges[j];
       const Vec3& nb0 = normalsB[eb.face0];
       const Vec3& nb1 = normalsB[eb.face1];
