@@ -2,6 +2,7 @@
 // and the closest points of two segments.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "polyhedron.h"
 
@@ -126,27 +127,34 @@ int clipFaces(const PolyView& ref, int refFace, const PolyView& inc, int incFace
   return count;
 }
 
-int selectContacts(const ContactCandidate* points, int count, const Vec3& normal,
-                   std::array<int, 4>& keep) {
-  // Unique ids only (a degenerate clip may repeat a feature pair).
-  std::array<int, kMaxClipVertices> idx;  // the first n are set
-  int n = 0;
-  for (int i = 0; i < count && n < kMaxClipVertices; ++i) {
-    bool seen = false;
-    for (int j = 0; j < n && !seen; ++j) seen = points[idx[std::size_t(j)]].id == points[i].id;
-    if (!seen) idx[std::size_t(n++)] = i;
-  }
+int spanningFour(const ContactCandidate* points, const int* index, int n, const Vec3& normal,
+                 bool flatTies, std::array<int, 4>& keep) {
+  const auto at = [&](int i) -> const Vec3& { return points[index[i]].pointB; };
+  const auto depth = [&](int i) { return points[index[i]].separation; };
   int kept = 0;
   if (n <= 4) {
-    for (int i = 0; i < n; ++i) keep[std::size_t(kept++)] = idx[std::size_t(i)];
+    for (int i = 0; i < n; ++i) keep[std::size_t(kept++)] = index[i];
     return kept;
   }
-  const auto at = [&](int i) -> const Vec3& { return points[idx[std::size_t(i)]].pointB; };
   // 1. the deepest point; 2. the farthest from it; 3., 4. the largest triangles with that
   // segment on either side (signed areas about the normal).
   int i0 = 0;
   for (int i = 1; i < n; ++i)
-    if (points[idx[std::size_t(i)]].separation < points[idx[std::size_t(i0)]].separation) i0 = i;
+    if (depth(i) < depth(i0)) i0 = i;
+  if (flatTies) {
+    // Among points as deep up to rounding, the one farthest from their centroid.
+    Real scale = 0;
+    Vec3 centroid = Vec3::Zero();
+    for (int i = 0; i < n; ++i) {
+      scale = std::max(scale, at(i).cwiseAbs().maxCoeff());
+      centroid += at(i);
+    }
+    centroid /= Real(n);
+    const Real tie = depth(i0) + 100 * std::numeric_limits<Real>::epsilon() * (1 + scale);
+    for (int i = 0; i < n; ++i)
+      if (depth(i) <= tie && (at(i) - centroid).squaredNorm() > (at(i0) - centroid).squaredNorm())
+        i0 = i;
+  }
   int i1 = i0 == 0 ? 1 : 0;
   for (int i = 0; i < n; ++i)
     if ((at(i) - at(i0)).squaredNorm() > (at(i1) - at(i0)).squaredNorm()) i1 = i;
@@ -158,11 +166,24 @@ int selectContacts(const ContactCandidate* points, int count, const Vec3& normal
     if (area > aPos) aPos = area, iPos = i;
     if (area < aNeg) aNeg = area, iNeg = i;
   }
-  keep[std::size_t(kept++)] = idx[std::size_t(i0)];
-  keep[std::size_t(kept++)] = idx[std::size_t(i1)];
-  if (iPos >= 0) keep[std::size_t(kept++)] = idx[std::size_t(iPos)];
-  if (iNeg >= 0) keep[std::size_t(kept++)] = idx[std::size_t(iNeg)];
+  keep[std::size_t(kept++)] = index[i0];
+  keep[std::size_t(kept++)] = index[i1];
+  if (iPos >= 0) keep[std::size_t(kept++)] = index[iPos];
+  if (iNeg >= 0) keep[std::size_t(kept++)] = index[iNeg];
   return kept;
+}
+
+int selectContacts(const ContactCandidate* points, int count, const Vec3& normal,
+                   std::array<int, 4>& keep) {
+  // Unique ids only (a degenerate clip may repeat a feature pair).
+  std::array<int, kMaxClipVertices> idx;  // the first n are set
+  int n = 0;
+  for (int i = 0; i < count && n < kMaxClipVertices; ++i) {
+    bool seen = false;
+    for (int j = 0; j < n && !seen; ++j) seen = points[idx[std::size_t(j)]].id == points[i].id;
+    if (!seen) idx[std::size_t(n++)] = i;
+  }
+  return spanningFour(points, idx.data(), n, normal, false, keep);
 }
 
 bool reduceManifold(const ContactCandidate* points, int count, const Vec3& normalLocal,

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include "contact_pairs.h"
 #include "inertia/collision/mesh_bvh.h"
@@ -381,50 +382,6 @@ bool fixInternalEdges(const TriangleInfo& t, const Collider& convex, const Trans
 
 // ---- Merging -------------------------------------------------------------------------------
 
-/// At most four of the candidates (sorted by id, one per id): the deepest, the farthest from it,
-/// the largest triangles on either side of that line (selectContacts without its cap).
-int selectFour(const std::vector<ContactCandidate>& c, const Vec3& normal, std::array<int, 4>& keep) {
-  const int n = int(c.size());
-  if (n <= 4) {
-    for (int i = 0; i < n; ++i) keep[std::size_t(i)] = i;
-    return n;
-  }
-  const auto at = [&](int i) -> const Vec3& { return c[std::size_t(i)].pointB; };
-  // The deepest point; among points as deep up to rounding (a face lying flat on the mesh),
-  // the one farthest from their centroid, so that a flat face keeps its corners.
-  int i0 = 0;
-  Real scale = 0;
-  Vec3 centroid = Vec3::Zero();
-  for (int i = 0; i < n; ++i) {
-    if (c[std::size_t(i)].separation < c[std::size_t(i0)].separation) i0 = i;
-    scale = std::max(scale, at(i).cwiseAbs().maxCoeff());
-    centroid += at(i);
-  }
-  centroid /= Real(n);
-  const Real tie = c[std::size_t(i0)].separation + 100 * kEps * (1 + scale);
-  for (int i = 0; i < n; ++i)
-    if (c[std::size_t(i)].separation <= tie &&
-        (at(i) - centroid).squaredNorm() > (at(i0) - centroid).squaredNorm())
-      i0 = i;
-  int i1 = i0 == 0 ? 1 : 0;
-  for (int i = 0; i < n; ++i)
-    if ((at(i) - at(i0)).squaredNorm() > (at(i1) - at(i0)).squaredNorm()) i1 = i;
-  const Vec3 base = at(i1) - at(i0);
-  int iPos = -1, iNeg = -1;
-  Real aPos = 0, aNeg = 0;
-  for (int i = 0; i < n; ++i) {
-    const Real area = base.cross(at(i) - at(i0)).dot(normal);
-    if (area > aPos) aPos = area, iPos = i;
-    if (area < aNeg) aNeg = area, iNeg = i;
-  }
-  int kept = 0;
-  keep[std::size_t(kept++)] = i0;
-  keep[std::size_t(kept++)] = i1;
-  if (iPos >= 0) keep[std::size_t(kept++)] = iPos;
-  if (iNeg >= 0) keep[std::size_t(kept++)] = iNeg;
-  return kept;
-}
-
 /// The full clipped face contacts of triangles whose manifold collideTriangle reduced (it keeps
 /// at most four points, and fewer when its deepest and farthest points span an edge of the
 /// contact polygon): merging selects its four from these, so that no corner lost in one
@@ -496,7 +453,11 @@ void finishManifolds(std::vector<ContactManifold>& out, std::size_t first,
                                 }),
                     scratch.end());
       std::array<int, 4> keep{};
-      m.pointCount = selectFour(scratch, m.normal, keep);
+      thread_local std::vector<int> order;
+      order.resize(scratch.size());
+      std::iota(order.begin(), order.end(), 0);
+      m.pointCount = spanningFour(scratch.data(), order.data(), int(scratch.size()), m.normal,
+                                  true, keep);
       for (int k = 0; k < m.pointCount; ++k) {
         const ContactCandidate& c = scratch[std::size_t(keep[std::size_t(k)])];
         m.points[std::size_t(k)] = {c.pointA, c.pointB, c.separation, c.id};

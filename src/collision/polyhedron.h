@@ -138,6 +138,12 @@ inline constexpr int kMaxClipVertices = 64;
 int selectContacts(const ContactCandidate* points, int count, const Vec3& normal,
                    std::array<int, 4>& keep);
 
+/// The rule of selectContacts on points[index[0..n)] (unique ids already), writing indices into
+/// `points`. With `flatTies`, the deepest point is chosen among those as deep up to rounding as
+/// the one farthest from their centroid, so that a face lying flat keeps its corners.
+int spanningFour(const ContactCandidate* points, const int* index, int n, const Vec3& normal,
+                 bool flatTies, std::array<int, 4>& keep);
+
 /// Writes into m the at most four of `points` that keep the deepest and span the largest area
 /// (deepest, farthest from it, then the largest triangles on either side of that line), mapped
 /// from A's frame to the world by poseA; duplicates by id are dropped. Returns m.pointCount > 0.
