@@ -156,11 +156,10 @@ void solveOne(ContactConstraint& c, SolverBody& a, SolverBody& b, const BiasMode
                      p.tangentMass[k] * rowVelocity(a, b, c.tangent[k], p.rtA[k], p.rtB[k]);
       const Real limit = c.friction * p.normalImpulse;
       const Real len2 = updated[0] * updated[0] + updated[1] * updated[1];
-      if (len2 > limit * limit) {
-        const Real scale = limit / std::sqrt(len2);
-        updated[0] *= scale;
-        updated[1] *= scale;
-      }
+      // Without a branch (sliding or sticking is unpredictable): scaling by 1 is exact.
+      const Real scale = len2 > limit * limit ? limit / std::sqrt(len2) : Real(1);
+      updated[0] *= scale;
+      updated[1] *= scale;
       for (std::size_t k = 0; k < 2; ++k)
         applyRow(a, b, c.tangent[k], p.wtA[k], p.wtB[k], updated[k] - p.tangentImpulse[k]);
       p.tangentImpulse = updated;
@@ -229,9 +228,14 @@ void restitutionOne(ContactConstraint& c, SolverBody& a, SolverBody& b, Real thr
 // harmlessly, so that constraints sharing only such a body can run at the same time.
 template <class Kernel>
 void runOne(ContactConstraint& c, std::vector<SolverBody>& bodies, Kernel& kernel) {
-  SolverBody fixedA, fixedB;
+  // Per thread and filled only for a fixed side: constructing two bodies per constraint and
+  // pass cost more than a friction row.
+  thread_local SolverBody fixedA, fixedB;
   auto side = [&](int i, SolverBody& fixed) -> SolverBody& {
-    if (i < 0) return fixed;
+    if (i < 0) {
+      fixed = kStatic;
+      return fixed;
+    }
     SolverBody& body = bodies[static_cast<std::size_t>(i)];
     if (body.invMass > 0) return body;
     fixed = body;
