@@ -8,6 +8,7 @@
 
 #include "render_command.h"
 #include "run_command.h"
+#include "view_command.h"
 
 namespace {
 
@@ -30,7 +31,7 @@ const CLI::Validator kFinitePositive(
 
 int main(int argc, char** argv) {
   using namespace inertia::app;
-  CLI::App app{"Inertia: run and check physics scene files"};
+  CLI::App app{"Inertia: run, check, render and view physics scene files"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "inertia 0.1.0");
 
@@ -74,6 +75,23 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 16));
   renderCmd->add_flag("--quiet,-q", render.quiet, "Print nothing but errors");
 
+  ViewOptions view;
+  CLI::App* viewCmd = app.add_subcommand(
+      "view",
+      "Interactive viewer: a sample browser over scenes/ and built-in samples (needs a display; "
+      "exits with 2 without one)");
+  viewCmd->add_option("scene", view.scene, "Scene file (JSON) or sample name to open first");
+  viewCmd->add_option("--scenes", view.scenesDir,
+                      "Folder of scene files to list (default: scenes/ found near the executable)");
+  viewCmd->add_option("--size", view.size, "Window size WIDTHxHEIGHT, default 1280x720");
+  viewCmd->add_option("--frames", view.frames, "Run N frames (1/60 s each) and exit")
+      ->check(CLI::Range(std::int64_t(1), std::int64_t(1) << 40));
+  viewCmd->add_option("--screenshot", view.screenshot,
+                      "Write the last frame as PNG (with --frames; otherwise on F12)");
+  viewCmd->add_option("--threads", view.threads, "Worker threads (0: all cores)")
+      ->check(CLI::Range(0, 1024));
+  viewCmd->add_flag("--no-panel", view.noPanel, "Start with the panel hidden (Tab toggles it)");
+
   std::string validateFile;
   CLI::App* validateCmd = app.add_subcommand("validate", "Check a scene file and report errors");
   validateCmd->add_option("scene", validateFile, "Scene file (JSON)")->required();
@@ -91,6 +109,7 @@ int main(int argc, char** argv) {
     if (runCmd->parsed()) return runScene(run);
     if (validateCmd->parsed()) return validateScene(validateFile);
     if (renderCmd->parsed()) return renderScene(render);
+    if (viewCmd->parsed()) return viewScene(view);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "inertia: internal error: %s\n", e.what());
     return kInternalError;

@@ -22,15 +22,6 @@ namespace {
 
 constexpr int kMaxSide = 8192;
 
-bool parseSize(const std::string& s, int& width, int& height) {
-  int w = 0, h = 0, used = 0;
-  if (std::sscanf(s.c_str(), "%dx%d%n", &w, &h, &used) != 2 || used != int(s.size())) return false;
-  if (w < 1 || h < 1 || w > kMaxSide || h > kMaxSide) return false;
-  width = w;
-  height = h;
-  return true;
-}
-
 // Whole steps nearest to time t (s).
 std::int64_t stepsAt(double t, double dt) { return std::int64_t(std::llround(t / dt)); }
 
@@ -42,17 +33,6 @@ viewer::ShapeColors shapeColors(const io::Scene& scene) {
     for (const ShapeDesc& shape : body.shapes) list.push_back(shape.color);
   }
   return colors;
-}
-
-// Bounds for the default camera: the world as loaded and each particle emitter's position
-// (particles may not exist yet at time 0).
-Aabb framingBounds(const World& world, const io::Scene& scene) {
-  Aabb b = viewer::sceneBounds(world);
-  for (const io::ParticleSystemDesc& ps : scene.particleSystems) {
-    for (const EmitterSettings& e : ps.emitters) b.extend(e.pose.p);
-  }
-  if (b.isValid() && (b.upper - b.lower).maxCoeff() < Real(2)) b = b.inflated(Real(1));
-  return b;
 }
 
 // Progress on a terminal only, as `inertia run` does.
@@ -85,6 +65,15 @@ class Progress {
 }
 
 }  // namespace
+
+bool parseSize(const std::string& s, int& width, int& height) {
+  int w = 0, h = 0, used = 0;
+  if (std::sscanf(s.c_str(), "%dx%d%n", &w, &h, &used) != 2 || used != int(s.size())) return false;
+  if (w < 1 || h < 1 || w > kMaxSide || h > kMaxSide) return false;
+  width = w;
+  height = h;
+  return true;
+}
 
 int renderScene(const RenderOptions& o) {
   int width = 0, height = 0;
@@ -143,15 +132,8 @@ int renderScene(const RenderOptions& o) {
     viewer::OffscreenTarget target(width, height, o.samples);
     viewer::Renderer renderer;
     renderer.setShapeColors(shapeColors(scene));
-    viewer::CameraView camera;
-    if (scene.camera) {
-      camera.position = scene.camera->position.cast<float>();
-      camera.target = scene.camera->target.cast<float>();
-      camera.fovY = float(scene.camera->fov);
-      viewer::fitClipPlanes(camera, framingBounds(*world, scene));
-    } else {
-      camera = viewer::frameBounds(framingBounds(*world, scene), 45, float(width) / float(height));
-    }
+    const viewer::CameraView camera =
+        viewer::sceneCamera(scene, *world, float(width) / float(height));
 
     std::unique_ptr<viewer::VideoEncoder> video;
     if (isVideo) video = std::make_unique<viewer::VideoEncoder>(o.out, kind, width, height, o.fps);

@@ -21,4 +21,7 @@ struct RenderOptions {
 
 int renderScene(const RenderOptions& options);
 
+/// Parses an image size "WIDTHxHEIGHT" (1..8192 pixels each); false when malformed.
+bool parseSize(const std::string& text, int& width, int& height);
+
 }  // namespace inertia::app

@@ -89,4 +89,23 @@ void fitClipPlanes(CameraView& c, const Aabb& bounds) {
   c.nearPlane = std::clamp(0.02f * std::max(0.0f, d - radius), 0.01f, 1.0f);
 }
 
+Aabb framingBounds(const World& world, const io::Scene& scene) {
+  Aabb b = sceneBounds(world);
+  for (const io::ParticleSystemDesc& ps : scene.particleSystems) {
+    for (const EmitterSettings& e : ps.emitters) b.extend(e.pose.p);
+  }
+  if (b.isValid() && (b.upper - b.lower).maxCoeff() < Real(2)) b = b.inflated(Real(1));
+  return b;
+}
+
+CameraView sceneCamera(const io::Scene& scene, const World& world, float aspect) {
+  if (!scene.camera) return frameBounds(framingBounds(world, scene), 45, aspect);
+  CameraView camera;
+  camera.position = scene.camera->position.cast<float>();
+  camera.target = scene.camera->target.cast<float>();
+  camera.fovY = float(scene.camera->fov);
+  fitClipPlanes(camera, framingBounds(world, scene));
+  return camera;
+}
+
 }  // namespace inertia::viewer

@@ -7,6 +7,7 @@
 
 #include "inertia/core/types.h"
 #include "inertia/geometry/bounds.h"
+#include "inertia/io/scene.h"
 #include "inertia/world/world.h"
 
 namespace inertia::viewer {
@@ -38,5 +39,13 @@ CameraView frameBounds(const Aabb& bounds, float fovY, float aspect);
 
 /// Near and far planes fitted to a camera's distance to `bounds` (kept when bounds are empty).
 void fitClipPlanes(CameraView& camera, const Aabb& bounds);
+
+/// Bounds for framing a scene: sceneBounds(world) and each particle emitter's position
+/// (particles may not exist yet at time 0), grown by 1 m when smaller than 2 m.
+Aabb framingBounds(const World& world, const io::Scene& scene);
+
+/// The camera a scene starts with: its "camera" when given (clip planes fitted), else one
+/// framing its bounds (frameBounds with a 45-degree field of view).
+CameraView sceneCamera(const io::Scene& scene, const World& world, float aspect);
 
 }  // namespace inertia::viewer

@@ -86,7 +86,10 @@ std::string sequencePath(const std::string& pattern, std::int64_t index) {
     std::size_t j = i + 1;
     while (j < pattern.size() && pattern[j] != 'd') ++j;
     char buffer[32];
-    const std::string spec = "%" + pattern.substr(i + 1, j - i - 1) + "lld";
+    // Appended piecewise: "%" + substr(...) trips GCC 12's false -Wrestrict at -O3.
+    std::string spec = "%";
+    spec.append(pattern, i + 1, j - i - 1);
+    spec += "lld";
     std::snprintf(buffer, sizeof buffer, spec.c_str(), static_cast<long long>(index));
     out += buffer;
     i = j;

@@ -152,6 +152,10 @@ Eigen::Vector3f hsv(float h, float s, float v) {
 
 }  // namespace
 
+GLuint linkProgram(const char* vertexSource, const char* fragmentSource) {
+  return link(vertexSource, fragmentSource);
+}
+
 Eigen::Vector3f defaultBodyColor(std::size_t bodyIndex, BodyType type) {
   if (type == BodyType::Static) return Eigen::Vector3f(0.72f, 0.72f, 0.70f);
   const double golden = 0.618033988749895;
@@ -242,7 +246,8 @@ void Renderer::drawShape(std::uint64_t key, const Shape& shape, const Transform&
   glDrawElements(GL_TRIANGLES, g.count, GL_UNSIGNED_INT, nullptr);
 }
 
-void Renderer::draw(const World& world, const CameraView& camera, int width, int height) {
+void Renderer::draw(const World& world, const CameraView& camera, int width, int height,
+                    std::span<const Transform> bodyPoses) {
   const Eigen::Vector3f& bg = style_.background;
   glClearColor(bg.x(), bg.y(), bg.z(), 1.0f);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -269,12 +274,19 @@ void Renderer::draw(const World& world, const CameraView& camera, int width, int
   const std::vector<BodyId> bodies = rb.bodies();
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     const std::vector<ShapeId> shapes = rb.shapes(bodies[i]);
+    const BodyType type = rb.type(bodies[i]);
+    const bool asleep = style_.sleepingColor && type == BodyType::Dynamic && !rb.isAwake(bodies[i]);
+    // A given pose moves the body's shapes rigidly: shape = pose * (body^-1 * shape now).
+    const bool posed = i < bodyPoses.size();
+    const Transform toPose = posed ? bodyPoses[i] * rb.transform(bodies[i]).inverse() : Transform{};
     for (std::size_t j = 0; j < shapes.size(); ++j) {
-      Eigen::Vector3f color = defaultBodyColor(i, rb.type(bodies[i]));
+      Eigen::Vector3f color = defaultBodyColor(i, type);
       if (i < colors_.size() && j < colors_[i].size() && colors_[i][j])
         color = colors_[i][j]->cast<float>();
-      drawShape(key(shapes[j]), rb.collider(shapes[j]).shape(), rb.shapeTransform(shapes[j]),
-                color);
+      if (asleep) color = *style_.sleepingColor;
+      const Transform shapePose = rb.shapeTransform(shapes[j]);
+      drawShape(key(shapes[j]), rb.collider(shapes[j]).shape(),
+                posed ? toPose * shapePose : shapePose, color);
     }
   }
   if (style_.particles) {

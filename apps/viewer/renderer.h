@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "camera.h"
@@ -24,6 +25,10 @@ using ShapeColors = std::vector<std::vector<std::optional<Vec3>>>;
 /// deterministic hue per body index (golden-ratio steps around the colour wheel).
 Eigen::Vector3f defaultBodyColor(std::size_t bodyIndex, BodyType type);
 
+/// Compiles and links a vertex and a fragment shader into a program in the current context;
+/// throws GlError with the compiler's log.
+GLuint linkProgram(const char* vertexSource, const char* fragmentSource);
+
 struct RenderStyle {
   Eigen::Vector3f background = Eigen::Vector3f(0.66f, 0.74f, 0.83f);  ///< Sky and fog (rgb).
   /// Direction the light travels (world), normalised when drawn.
@@ -32,6 +37,8 @@ struct RenderStyle {
   /// Particles darken towards the end of their life (age / lifetime).
   bool colorOverLife = true;
   int segments = 32;  ///< Tessellation of round shapes.
+  /// When set, sleeping dynamic bodies are drawn in this colour (the viewer's debug toggle).
+  std::optional<Eigen::Vector3f> sleepingColor{};
 };
 
 /// Draws worlds: bodies, particles, and the obstacles of particle systems (in grey). Needs a
@@ -48,7 +55,11 @@ class Renderer {
   void setShapeColors(ShapeColors colors) { colors_ = std::move(colors); }
 
   /// Clears the bound framebuffer (a viewport of width x height pixels) and draws `world`.
-  void draw(const World& world, const CameraView& camera, int width, int height);
+  /// `bodyPoses`, when not empty, holds the pose of each body's origin in
+  /// RigidBodySystem::bodies() order, drawn instead of the current one (the viewer passes poses
+  /// interpolated between two physics steps); bodies past its end are drawn where they are.
+  void draw(const World& world, const CameraView& camera, int width, int height,
+            std::span<const Transform> bodyPoses = {});
 
  private:
   struct GpuMesh {

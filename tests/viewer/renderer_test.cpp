@@ -74,6 +74,42 @@ TEST_F(RendererTest, BodyIsDrawnInItsColourWhereItIs) {
   EXPECT_LT(std::abs(int(bottom[0]) - int(bottom[2])), 30);
 }
 
+TEST_F(RendererTest, GivenPosesAndSleepingColourAreDrawn) {
+  World world;
+  BodyId ground = world.createBody({.type = BodyType::Static});
+  world.addShape(ground, Plane{{0, 1, 0}, 0});
+  BodyId ball = world.createBody({.position = {0, 3, 0}});
+  world.addShape(ball, Sphere{Real(0.6)}, {}, {Vec3(0.5, 0, 0), Quat::Identity()});
+  renderer_.setShapeColors({{}, {Vec3(1, 0, 0)}});
+  const Eigen::Vector2d now = [&] {
+    target_.bind();
+    renderer_.draw(world, camera(), kW, kH);
+    return Image{target_.readRgb()}.redCentroid();
+  }();
+  // The same body drawn at a given pose 2 m lower and 2 m to the left: its offset shape follows.
+  const std::vector<Transform> poses = {world.transform(ground),
+                                        {Vec3(-2, 1, 0), Quat::Identity()}};
+  target_.bind();
+  renderer_.draw(world, camera(), kW, kH, poses);
+  int count = 0;
+  const Eigen::Vector2d moved = Image{target_.readRgb()}.redCentroid(&count);
+  EXPECT_GT(count, 30);
+  EXPECT_LT(moved.x(), now.x() - 5);
+  EXPECT_GT(moved.y(), now.y() + 5);
+  EXPECT_TRUE(world.transform(ball).p.isApprox(Vec3(0, 3, 0)));  // drawing moves nothing
+
+  // A sleeping body takes the sleeping colour when one is set (blue here: no red left).
+  for (int i = 0; i < 400 && world.rigidBodies().isAwake(ball); ++i) world.step(Real(1.0 / 60));
+  ASSERT_FALSE(world.rigidBodies().isAwake(ball));
+  renderer_.style().sleepingColor = Eigen::Vector3f(0, 0, 1);
+  count = 0;
+  draw(world, camera()).redCentroid(&count);
+  EXPECT_EQ(count, 0);
+  renderer_.style().sleepingColor.reset();
+  draw(world, camera()).redCentroid(&count);
+  EXPECT_GT(count, 30);
+}
+
 TEST_F(RendererTest, EveryShapeTypeDraws) {
   std::vector<Vec3> cube;
   for (int i = 0; i < 8; ++i)

@@ -1,0 +1,53 @@
+// Debug drawing for the viewer: coloured line segments showing contact points and normals,
+// shape bounding boxes, velocities and centres of mass. Building the lines needs no GL (testable
+// headless); LineRenderer draws them with a minimal OpenGL 3.3 line program.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "gl.h"
+#include "inertia/world/world.h"
+
+namespace inertia::viewer {
+
+/// What to draw. RigidBodySystem does not expose its broad-phase tree, so "aabbs" are the
+/// world bounds of the bodies' shapes (planes excepted), not the tree's fattened nodes.
+struct DebugDrawFlags {
+  bool contacts = false;       ///< Touching contact points (red) and normals (yellow).
+  bool speculative = false;    ///< Speculative contact points too (grey), with `contacts`.
+  bool aabbs = false;          ///< Shape bounds: awake bodies cyan, sleeping ones dark blue.
+  bool velocities = false;     ///< Linear velocity (green, 0.1 s of motion), angular (magenta).
+  bool centersOfMass = false;  ///< Axes cross at each dynamic body's centre of mass.
+};
+
+/// Line segments with a colour per vertex: 6 floats per vertex (x y z r g b), 2 vertices a line.
+struct DebugLines {
+  std::vector<float> vertices{};
+
+  void add(const Vec3& a, const Vec3& b, const Eigen::Vector3f& color);
+  std::size_t lineCount() const { return vertices.size() / 12; }
+  void clear() { vertices.clear(); }
+};
+
+/// Appends the lines `flags` asks for, from the world's state after its last step. `scale` (m)
+/// sizes normals (one scale) and crosses (a quarter).
+void buildDebugLines(const World& world, const DebugDrawFlags& flags, Real scale, DebugLines& out);
+
+/// Draws DebugLines in the current OpenGL 3.3 core context, depth-tested against what is
+/// already drawn. Needs the context for its whole life.
+class LineRenderer {
+ public:
+  LineRenderer();
+  ~LineRenderer();
+  LineRenderer(const LineRenderer&) = delete;
+  LineRenderer& operator=(const LineRenderer&) = delete;
+
+  /// `viewProj`: projection times view (camera.h).
+  void draw(const DebugLines& lines, const Eigen::Matrix4f& viewProj);
+
+ private:
+  GLuint program_ = 0, vao_ = 0, vbo_ = 0;
+};
+
+}  // namespace inertia::viewer
