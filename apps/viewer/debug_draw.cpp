@@ -2,8 +2,12 @@
 #include "debug_draw.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
+#include <utility>
+#include <vector>
 
+#include "inertia/collision/mesh_bvh.h"
 #include "inertia/geometry/bounds.h"
 #include "renderer.h"
 
@@ -35,6 +39,7 @@ const Eigen::Vector3f kAwakeBox(0.1f, 0.85f, 0.9f);
 const Eigen::Vector3f kSleepingBox(0.15f, 0.2f, 0.55f);
 const Eigen::Vector3f kLinear(0.1f, 0.8f, 0.2f);
 const Eigen::Vector3f kAngular(0.85f, 0.2f, 0.85f);
+const Eigen::Vector3f kTreeLeaf(0.6f, 0.6f, 0.6f);
 
 void cross(DebugLines& out, const Vec3& p, Real size, const Eigen::Vector3f& color) {
   for (int k = 0; k < 3; ++k) {
@@ -43,10 +48,12 @@ void cross(DebugLines& out, const Vec3& p, Real size, const Eigen::Vector3f& col
   }
 }
 
-void box(DebugLines& out, const Aabb& b, const Eigen::Vector3f& color) {
+// The 12 edges of box `b`, posed by `pose` (the identity for world boxes).
+void box(DebugLines& out, const Aabb& b, const Eigen::Vector3f& color,
+         const Transform& pose = Transform{}) {
   auto corner = [&](int i) {
-    return Vec3(i & 1 ? b.upper.x() : b.lower.x(), i & 2 ? b.upper.y() : b.lower.y(),
-                i & 4 ? b.upper.z() : b.lower.z());
+    return pose.apply(Vec3(i & 1 ? b.upper.x() : b.lower.x(), i & 2 ? b.upper.y() : b.lower.y(),
+                           i & 4 ? b.upper.z() : b.lower.z()));
   };
   // The 12 edges join corners differing in one bit.
   for (int i = 0; i < 8; ++i)
@@ -76,6 +83,39 @@ void buildDebugLines(const World& world, const DebugDrawFlags& flags, Real scale
         if (touching) out.add(mid, mid + scale * c.manifold.normal, kNormal);
       }
     }
+  }
+  if (flags.broadPhaseTree) {
+    const DynamicTree& tree = rb.broadPhaseTree();
+    const float top = float(std::max(tree.height(), 1));
+    tree.forEachNode([&](const Aabb& b, int height) {
+      // Leaves grey; inner nodes from green (low) to orange (the root).
+      const float t = float(height) / top;
+      const Eigen::Vector3f color = height == 0 ? kTreeLeaf
+                                                : Eigen::Vector3f(0.2f + 0.8f * t, 0.8f, 0.2f);
+      box(out, b, color);
+    });
+  }
+  if (flags.meshBvh) {
+    for (BodyId body : rb.bodies())
+      for (ShapeId shape : rb.shapes(body)) {
+        const MeshBvh* bvh = rb.collider(shape).meshBvh();
+        if (!bvh || bvh->nodes().empty()) continue;
+        const Transform pose = rb.shapeTransform(shape);
+        const auto& nodes = bvh->nodes();
+        // Depth-first layout: an inner node's first child follows it, the second is `index`.
+        std::vector<std::pair<std::uint32_t, int>> stack{{0u, 0}};
+        while (!stack.empty()) {
+          const auto [i, depth] = stack.back();
+          stack.pop_back();
+          const MeshBvh::Node& node = nodes[i];
+          const float t = float(depth) / float(std::max(flags.bvhDepth, 1));
+          box(out, Aabb{node.lower, node.upper}, Eigen::Vector3f(1.0f, 0.3f + 0.6f * t, 0.2f),
+              pose);
+          if (node.isLeaf() || depth >= flags.bvhDepth) continue;
+          stack.emplace_back(node.index, depth + 1);
+          stack.emplace_back(i + 1, depth + 1);
+        }
+      }
   }
   if (!flags.aabbs && !flags.velocities && !flags.centersOfMass) return;
   for (BodyId body : rb.bodies()) {

@@ -11,14 +11,20 @@
 
 namespace inertia::viewer {
 
-/// What to draw. RigidBodySystem does not expose its broad-phase tree, so "aabbs" are the
-/// world bounds of the bodies' shapes (planes excepted), not the tree's fattened nodes.
+/// What to draw.
 struct DebugDrawFlags {
   bool contacts = false;       ///< Touching contact points (red) and normals (yellow).
   bool speculative = false;    ///< Speculative contact points too (grey), with `contacts`.
   bool aabbs = false;          ///< Shape bounds: awake bodies cyan, sleeping ones dark blue.
   bool velocities = false;     ///< Linear velocity (green, 0.1 s of motion), angular (magenta).
   bool centersOfMass = false;  ///< Axes cross at each dynamic body's centre of mass.
+  /// The broad phase's dynamic tree: fat leaf boxes (grey) and inner nodes, warmer the
+  /// higher they sit.
+  bool broadPhaseTree = false;
+  /// The bounding-volume hierarchies of triangle-mesh shapes, posed with their shapes, down to
+  /// `bvhDepth` levels below the root (warmer nearer the root).
+  bool meshBvh = false;
+  int bvhDepth = 4;
 };
 
 /// Line segments with a colour per vertex: 6 floats per vertex (x y z r g b), 2 vertices a line.

@@ -437,6 +437,9 @@ class App {
       ImGui::Checkbox("velocities", &flags_.velocities);
       ImGui::SameLine();
       ImGui::Checkbox("centres of mass", &flags_.centersOfMass);
+      ImGui::Checkbox("broad-phase tree", &flags_.broadPhaseTree);
+      ImGui::Checkbox("mesh BVH", &flags_.meshBvh);
+      if (flags_.meshBvh) ImGui::SliderInt("BVH depth", &flags_.bvhDepth, 0, 12);
       ImGui::Checkbox("sleeping bodies in blue-grey", &showSleeping_);
     }
     if (ImGui::CollapsingHeader("Help")) {

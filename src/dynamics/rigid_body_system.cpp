@@ -595,6 +595,7 @@ Transform RigidBodySystem::shapeTransform(ShapeId id) const {
 }
 const Material& RigidBodySystem::material(ShapeId id) const { return d_->shape(id).material; }
 const std::vector<ContactInfo>& RigidBodySystem::contacts() const { return d_->contacts; }
+const DynamicTree& RigidBodySystem::broadPhaseTree() const { return d_->tree; }
 const std::vector<ContactEvent>& RigidBodySystem::beginEvents() const { return d_->beginEvents; }
 const std::vector<ContactEvent>& RigidBodySystem::endEvents() const { return d_->endEvents; }
 const DynamicsTimes& RigidBodySystem::times() const { return d_->times; }

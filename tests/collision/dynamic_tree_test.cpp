@@ -304,6 +304,48 @@ TEST(DynamicTree, HeightStaysLogarithmicForRandomAndSortedInsertions) {
               random.height(), sortedHeight, sorted.height(), heightBound(n));
 }
 
+TEST(DynamicTree, ForEachNodeVisitsEveryNodeParentsFirst) {
+  std::mt19937 rng(3);
+  DynamicTree tree;
+  std::vector<Aabb> fat;
+  for (int i = 0; i < 300; ++i) {
+    const int id = tree.createProxy(randomBox(rng, 50, 1), std::uint32_t(i));
+    fat.push_back(tree.fatAabb(id));
+  }
+  // A full binary tree over n leaves has 2n - 1 nodes; the first is the root.
+  std::vector<std::pair<Aabb, int>> nodes;
+  tree.forEachNode([&](const Aabb& box, int height) { nodes.emplace_back(box, height); });
+  ASSERT_EQ(nodes.size(), 2 * fat.size() - 1);
+  EXPECT_EQ(nodes[0].second, tree.height());
+  // Parents before children (pre-order): replaying the sequence, each node is a child of the
+  // innermost open node, lower than it and inside its box; inner nodes open two child slots.
+  struct Open {
+    Aabb box;
+    int height, slots;
+  };
+  std::vector<Open> open;
+  int leaves = 0;
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    const auto& [box, height] = nodes[k];
+    if (k > 0) {
+      ASSERT_FALSE(open.empty()) << "node " << k << " after the tree ended";
+      EXPECT_LT(height, open.back().height);
+      EXPECT_TRUE(open.back().box.contains(box));
+      if (--open.back().slots == 0) open.pop_back();
+    }
+    if (height > 0) {
+      open.push_back({box, height, 2});
+      continue;
+    }
+    ++leaves;  // a leaf's box is a proxy's fat box
+    EXPECT_TRUE(std::any_of(fat.begin(), fat.end(), [&](const Aabb& f) {
+      return f.lower == box.lower && f.upper == box.upper;
+    }));
+  }
+  EXPECT_TRUE(open.empty());
+  EXPECT_EQ(leaves, int(fat.size()));
+}
+
 TEST(DynamicTree, SmallMovesStayInsideTheFatBox) {
   DynamicTree tree({.margin = Real(0.2), .displacementMultiplier = Real(4)});
   const Aabb b{Vec3(0, 0, 0), Vec3(1, 1, 1)};

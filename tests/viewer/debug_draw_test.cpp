@@ -4,7 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+#include <numbers>
+#include <vector>
+
 #include "camera.h"
+#include "inertia/collision/mesh_bvh.h"
+#include "inertia/geometry/bounds.h"
 #include "offscreen.h"
 
 namespace inertia::viewer {
@@ -80,6 +86,80 @@ TEST(DebugDraw, VelocitiesAndCentresOfMass) {
   lines.clear();
   buildDebugLines(s.world, {.centersOfMass = true}, 1, lines);
   EXPECT_EQ(lines.lineCount(), 6u);  // a 3-line cross per dynamic body
+}
+
+// The corners of the boxes drawn: each box's 12 edges start at its corners, so the component
+// minima and maxima over a box's lines are its bounds.
+std::vector<Aabb> drawnBoxes(const DebugLines& lines) {
+  std::vector<Aabb> boxes;
+  for (std::size_t first = 0; first + 12 <= lines.lineCount(); first += 12) {
+    Aabb b{Vec3::Constant(Real(1e30)), Vec3::Constant(Real(-1e30))};
+    for (std::size_t i = first; i < first + 12; ++i)
+      for (int end = 0; end < 2; ++end) {
+        const float* v = &lines.vertices[12 * i + 6 * std::size_t(end)];
+        const Vec3 p(v[0], v[1], v[2]);
+        b.lower = b.lower.cwiseMin(p);
+        b.upper = b.upper.cwiseMax(p);
+      }
+    boxes.push_back(b);
+  }
+  return boxes;
+}
+
+TEST(DebugDraw, BroadPhaseTreeHasEveryNodeAndContainsTheShapes) {
+  Scene s;
+  DebugLines lines;
+  buildDebugLines(s.world, {.broadPhaseTree = true}, 1, lines);
+  // Two proxies (the plane is kept out of the tree): two leaves under one root.
+  ASSERT_EQ(lines.lineCount(), 12u * 3);
+  const std::vector<Aabb> boxes = drawnBoxes(lines);
+  const RigidBodySystem& rb = s.world.rigidBodies();
+  // The root (drawn first) holds the leaves. A leaf holds its shape as it was when the last
+  // step began: the resting box lies inside one now; the falling ball, which has moved since,
+  // at least overlaps one.
+  for (std::size_t k = 1; k < boxes.size(); ++k) EXPECT_TRUE(boxes[0].contains(boxes[k]));
+  auto bounds = [&](BodyId body) {
+    const ShapeId shape = rb.shapes(body)[0];
+    return worldBounds(rb.collider(shape).shape(), rb.shapeTransform(shape));
+  };
+  EXPECT_TRUE(boxes[1].contains(bounds(s.box)) || boxes[2].contains(bounds(s.box)));
+  EXPECT_TRUE(boxes[1].overlaps(bounds(s.ball)) || boxes[2].overlaps(bounds(s.ball)));
+}
+
+TEST(DebugDraw, MeshBvhDrawsItsLevelsPosedWithTheShape) {
+  World world;
+  // A 4 x 4 grid of squares (32 triangles) turned a quarter turn about y and raised by 2 m.
+  std::vector<Vec3> vertices;
+  std::vector<Triangle> triangles;
+  for (int i = 0; i <= 4; ++i)
+    for (int j = 0; j <= 4; ++j) vertices.emplace_back(Real(i), 0, Real(j));
+  for (std::uint32_t i = 0; i < 4; ++i)
+    for (std::uint32_t j = 0; j < 4; ++j) {
+      const std::uint32_t a = i * 5 + j;
+      triangles.push_back({a, a + 1, a + 6});
+      triangles.push_back({a, a + 6, a + 5});
+    }
+  const BodyId body = world.createBody({.type = BodyType::Static, .position = {0, 2, 0},
+                                        .orientation = Quat(Eigen::AngleAxis<Real>(
+                                            Real(std::numbers::pi / 2), Vec3::UnitY()))});
+  world.addShape(body, TriangleMesh(vertices, triangles));
+  DebugLines root;
+  buildDebugLines(world, {.meshBvh = true, .bvhDepth = 0}, 1, root);
+  ASSERT_EQ(root.lineCount(), 12u);
+  // The root box is the grid's bounds [0, 4] x [0, 0] x [0, 4], turned: x -> -z, z -> x. The
+  // BVH pads its boxes by 16 ulps of the mesh's size, and the pose rounds a few ulps more:
+  // 64 ulps of 4 m per corner.
+  const Aabb b = drawnBoxes(root)[0];
+  const double tol = 64 * std::numeric_limits<Real>::epsilon() * 4;
+  EXPECT_LT((b.lower - Vec3(0, 2, -4)).norm(), tol);
+  EXPECT_LT((b.upper - Vec3(4, 2, 0)).norm(), tol);
+  // Every level: one box per node of the hierarchy.
+  const MeshBvh* bvh = world.rigidBodies().collider(world.rigidBodies().shapes(body)[0]).meshBvh();
+  ASSERT_NE(bvh, nullptr);
+  DebugLines all;
+  buildDebugLines(world, {.meshBvh = true, .bvhDepth = MeshBvh::kMaxDepth}, 1, all);
+  EXPECT_EQ(all.lineCount(), 12 * bvh->nodes().size());
+  EXPECT_GT(bvh->nodes().size(), 3u);
 }
 
 TEST(DebugDraw, LineRendererDrawsColouredLines) {

@@ -105,6 +105,23 @@ class DynamicTree {
   /// the output depends only on the fat boxes and ids, not on the tree's shape or history.
   void computePairs(std::span<const int> moved, std::vector<std::pair<int, int>>& pairs) const;
 
+  /// Calls f(box, height) for every node of the tree, parents before their children (height 0
+  /// for the leaves, whose box is the fat box): for drawing and inspecting the hierarchy.
+  template <class F>
+  void forEachNode(F&& f) const {
+    if (root_ == kNull) return;
+    Stack stack;
+    stack.push(root_);
+    while (!stack.empty()) {
+      const Node& node = nodes_[stack.pop()];
+      f(node.box, node.height);
+      if (!node.isLeaf()) {
+        stack.push(node.child2);
+        stack.push(node.child1);
+      }
+    }
+  }
+
   /// Height of the tree: 0 for a single leaf (and for the empty tree).
   int height() const { return root_ == kNull ? 0 : nodes_[root_].height; }
   /// Number of live proxies.

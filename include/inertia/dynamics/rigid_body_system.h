@@ -13,6 +13,7 @@
 
 #include "inertia/collision/collider.h"
 #include "inertia/collision/contact.h"
+#include "inertia/collision/dynamic_tree.h"
 #include "inertia/collision/queries.h"
 #include "inertia/core/types.h"
 #include "inertia/dynamics/body.h"
@@ -200,6 +201,9 @@ class RigidBodySystem {
 
   /// Every manifold of the last step (touching or speculative), in a deterministic order.
   const std::vector<ContactInfo>& contacts() const;
+  /// The broad phase's dynamic tree over the shapes' fattened bounds (planes are kept apart
+  /// and are not in it), read-only: for debug drawing and statistics.
+  const DynamicTree& broadPhaseTree() const;
   const std::vector<ContactEvent>& beginEvents() const;
   const std::vector<ContactEvent>& endEvents() const;
 
