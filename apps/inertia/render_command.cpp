@@ -1,7 +1,5 @@
 #include "render_command.h"
 
-#include <unistd.h>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -13,6 +11,7 @@
 #include "inertia/core/error.h"
 #include "inertia/io/scene.h"
 #include "offscreen.h"
+#include "progress.h"
 #include "renderer.h"
 #include "run_command.h"
 
@@ -35,28 +34,6 @@ viewer::ShapeColors shapeColors(const io::Scene& scene) {
   return colors;
 }
 
-// Progress on a terminal only, as `inertia run` does.
-class Progress {
- public:
-  Progress(bool enabled, std::int64_t total)
-      : enabled_(enabled && isatty(STDERR_FILENO)), total_(total) {}
-  void update(std::int64_t done) {
-    if (!enabled_) return;
-    auto now = std::chrono::steady_clock::now();
-    if (std::chrono::duration<double>(now - last_).count() < 0.2 && done < total_) return;
-    last_ = now;
-    std::fprintf(stderr, "\rframe %lld/%lld (%.0f%%)", (long long)done, (long long)total_,
-                 100.0 * double(done) / double(total_));
-  }
-  void finish() {
-    if (enabled_) std::fprintf(stderr, "\r%*s\r", 40, "");
-  }
-
- private:
-  bool enabled_;
-  std::int64_t total_;
-  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
-};
 
 // Out of line: messages built by concatenation (GCC 12's false -Warray-bounds when inlined).
 [[gnu::noinline]] int badInput(const char* what, const std::string& message) {
@@ -138,7 +115,7 @@ int renderScene(const RenderOptions& o) {
     std::unique_ptr<viewer::VideoEncoder> video;
     if (isVideo) video = std::make_unique<viewer::VideoEncoder>(o.out, kind, width, height, o.fps);
 
-    Progress progress(!o.quiet, std::int64_t(times.size()));
+    Progress progress(!o.quiet, std::int64_t(times.size()), "frame");
     for (std::size_t k = 0; k < times.size(); ++k) {
       const std::int64_t steps = stepsAt(times[k], dt);
       while (world->stepCount() < steps) world->step(scene.world.dt);

@@ -1,7 +1,5 @@
 #include "run_command.h"
 
-#include <unistd.h>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -14,6 +12,7 @@
 #include "inertia/core/error.h"
 #include "inertia/io/recording.h"
 #include "inertia/io/scene.h"
+#include "progress.h"
 
 namespace inertia::app {
 
@@ -23,27 +22,6 @@ using Clock = std::chrono::steady_clock;
 
 double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
-// Progress on a terminal only: CI logs and pipes stay clean.
-class Progress {
- public:
-  Progress(bool enabled, std::int64_t total) : enabled_(enabled && isatty(STDERR_FILENO)), total_(total) {}
-  void update(std::int64_t done) {
-    if (!enabled_) return;
-    auto now = Clock::now();
-    if (seconds(now - last_) < 0.2) return;
-    last_ = now;
-    std::fprintf(stderr, "\rstep %lld/%lld (%.0f%%)", (long long)done, (long long)total_,
-                 100.0 * double(done) / double(total_));
-  }
-  void finish() {
-    if (enabled_) std::fprintf(stderr, "\r%*s\r", 40, "");
-  }
-
- private:
-  bool enabled_;
-  std::int64_t total_;
-  Clock::time_point last_ = Clock::now();
-};
 
 nlohmann::json particleStats(const World& world) {
   nlohmann::json list = nlohmann::json::array();
@@ -163,7 +141,7 @@ int runScene(const RunOptions& o) {
     }
   };
 
-  Progress progress(!o.quiet, steps);
+  Progress progress(!o.quiet, steps, "step");
   double wall = 0;
   record();  // the initial state at time 0
   if (energyLog) energyLog->write(measureEnergy(*world, gravityScale));
