@@ -40,13 +40,13 @@ void checked(const Node& n, F&& f) {
   }
 }
 
-EmitterSettings readEmitter(const Node& n, Real defaultSize) {
+EmitterSettings readEmitter(const Node& n, Real defaultSize, const std::vector<BodyDesc>& bodies) {
   EmitterSettings e;
   e.size = Range::constant(defaultSize);
   const std::string type = n.at("type").string();
   n.requireObject({"type", "position", "orientation", "rate", "burst", "direction", "spread",
                    "speed", "lifetime", "mass", "size", "color", "seed", "radius",
-                   "half_extents", "angle", "vertices", "triangles"});
+                   "half_extents", "angle", "vertices", "triangles", "attach_to"});
   if (type == "point") e.shape = EmitterShape::Point;
   else if (type == "sphere") e.shape = EmitterShape::Sphere;
   else if (type == "sphere_surface") e.shape = EmitterShape::SphereSurface;
@@ -89,6 +89,17 @@ EmitterSettings readEmitter(const Node& n, Real defaultSize) {
     checked(n, [&] { e.mesh = std::make_shared<TriangleMesh>(std::move(vertices), std::move(triangles)); });
   } else if (n.has("vertices") || n.has("triangles")) {
     n.fail("\"vertices\" and \"triangles\" belong to mesh emitters only");
+  }
+  if (n.has("attach_to")) {
+    // A body of the scene by name; the emitter's position and orientation are then relative to
+    // the body's origin. io::instantiate() turns the name into the body's id.
+    Node a = n.at("attach_to");
+    const std::string name = a.string();
+    std::size_t matches = 0;
+    for (const BodyDesc& b : bodies) matches += b.settings.name == name ? 1 : 0;
+    if (matches == 0) a.fail("no body is named \"" + name + "\"");
+    if (matches > 1) a.fail(std::to_string(matches) + " bodies are named \"" + name + "\"; the name must be unique");
+    e.attachToName = name;
   }
   checked(n, [&] { validate(e); });
   return e;
@@ -167,10 +178,10 @@ ForceField readField(const Node& n) {
 
 }  // namespace
 
-ParticleSystemDesc readParticleSystem(const Node& n, std::size_t index) {
+ParticleSystemDesc readParticleSystem(const Node& n, std::size_t index, const std::vector<BodyDesc>& bodies) {
   n.requireObject({"name", "capacity", "integrator", "emitters", "fields", "obstacles",
                    "restitution", "friction", "radius", "restitution_threshold",
-                   "particle_collisions"});
+                   "particle_collisions", "collide_with_bodies"});
   ParticleSystemDesc d;
   ParticleSystemSettings& s = d.settings;
   s.name = n.has("name") ? n.at("name").string() : std::to_string(index);
@@ -190,10 +201,11 @@ ParticleSystemDesc readParticleSystem(const Node& n, std::size_t index) {
   if (n.has("restitution_threshold"))
     s.restitutionThreshold = Real(n.at("restitution_threshold").number(0, 1e3));
   if (n.has("particle_collisions")) s.particleCollisions = n.at("particle_collisions").boolean();
+  if (n.has("collide_with_bodies")) s.collideWithBodies = n.at("collide_with_bodies").boolean();
   const Real size = n.has("radius") ? Real(n.at("radius").number(0, 1e3)) : Real(0.01);
   if (n.has("emitters")) {
     Node list = n.at("emitters");
-    for (std::size_t i = 0; i < list.requireArray(); ++i) d.emitters.push_back(readEmitter(list.at(i), size));
+    for (std::size_t i = 0; i < list.requireArray(); ++i) d.emitters.push_back(readEmitter(list.at(i), size, bodies));
   }
   if (n.has("fields")) {
     Node list = n.at("fields");

@@ -127,7 +127,7 @@ Scene parseScene(const std::string& text, const std::filesystem::path& name) {
   if (n.has("particle_systems")) {
     Node list = n.at("particle_systems");
     for (std::size_t i = 0; i < list.requireArray(); ++i)
-      scene.particleSystems.push_back(detail::readParticleSystem(list.at(i), i));
+      scene.particleSystems.push_back(detail::readParticleSystem(list.at(i), i, scene.bodies));
   }
   requireEmpty(n, "deformables", false, "deformables");
   return scene;
@@ -147,9 +147,18 @@ Scene loadScene(const std::filesystem::path& file) {
 std::unique_ptr<World> instantiate(const Scene& scene) {
   auto world = std::make_unique<World>(scene.world);
   for (const BodyDesc& d : scene.bodies) addBody(*world, d);
+  // Emitters attached by name (checked unique when read) get the body's id.
+  auto bodyNamed = [&](const std::string& name) {
+    for (BodyId id : world->rigidBodies().bodies())
+      if (world->rigidBodies().name(id) == name) return id;
+    return BodyId{};
+  };
   for (const ParticleSystemDesc& d : scene.particleSystems) {
     ParticleSystem& ps = world->particleSystem(world->createParticleSystem(d.settings));
-    for (const EmitterSettings& e : d.emitters) ps.addEmitter(e);
+    for (EmitterSettings e : d.emitters) {
+      if (!e.attachToName.empty()) e.attachTo = bodyNamed(e.attachToName);
+      ps.addEmitter(e);
+    }
     for (const ForceField& f : d.fields) ps.addField(f);
     for (const Obstacle& o : d.obstacles) ps.addObstacle(o);
   }

@@ -50,7 +50,8 @@ void validate(const EmitterSettings& s) {
   require(s.colorMin.allFinite() && s.colorMax.allFinite(), "EmitterSettings::color must be finite");
 }
 
-Emitter::Emitter(const EmitterSettings& settings) : settings_(settings), rng_(settings.seed) {
+Emitter::Emitter(const EmitterSettings& settings)
+    : settings_(settings), localPose_(settings.pose), rng_(settings.seed) {
   validate(settings_);
   settings_.direction.normalize();
   if (settings_.shape == EmitterShape::MeshSurface) {
@@ -63,6 +64,15 @@ Emitter::Emitter(const EmitterSettings& settings) : settings_(settings), rng_(se
       cumulativeArea_.push_back(sum);
     }
   }
+}
+
+void Emitter::setCarrierVelocity(const Vec3& linear, const Vec3& angular, const Vec3& center) {
+  require(linear.allFinite() && angular.allFinite() && center.allFinite(),
+          "Emitter::setCarrierVelocity: values must be finite");
+  carried_ = true;
+  carrierLinear_ = linear;
+  carrierAngular_ = angular;
+  carrierCenter_ = center;
 }
 
 Real Emitter::uniform() {
@@ -164,6 +174,7 @@ std::int64_t Emitter::emit(ParticlePool& pool, Real h) {
     ParticlePool::Spawn spawn;
     const Real speed = sample(settings_.speed);
     spawn.velocity = settings_.pose.rotate(d) * speed;
+    const Vec3 own = spawn.velocity;  // relative to the carrier
     spawn.lifetime = sample(settings_.lifetime);
     spawn.mass = sample(settings_.mass);
     spawn.radius = sample(settings_.size);
@@ -172,6 +183,14 @@ std::int64_t Emitter::emit(ParticlePool& pool, Real h) {
     // Spread the step's particles over the step, as if emitted continuously.
     spawn.age = uniform() * h;
     spawn.position = settings_.pose.apply(p) + spawn.velocity * spawn.age;
+    if (carried_) {
+      // The carrier's velocity at the emission point (a rigid body's v + w x r) is added. The
+      // particle left the carrier `age` ago where the emission point then was, so it is ahead
+      // of the point's present position by its own velocity times its age only.
+      const Vec3 at = settings_.pose.apply(p);
+      spawn.velocity = own + (carrierLinear_ + carrierAngular_.cross(at - carrierCenter_));
+      spawn.position = at + own * spawn.age;
+    }
     pool.add(spawn);
     ++emitted;
   }

@@ -2,7 +2,19 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstring>
+#include <type_traits>
+// Hand-vectorised loops for float on x86-64 (SSE2 is part of the base instruction set); the
+// plain loops after them finish the batch and are the whole path elsewhere. Both compute the
+// same bits: the same IEEE operations on the same values, no contraction (-ffp-contract=off).
+#if defined(__SSE2__) && !defined(INERTIA_DOUBLE)
+#define INERTIA_PARTICLES_SSE 1
+#include <immintrin.h>
+#else
+#define INERTIA_PARTICLES_SSE 0
+#endif
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -26,6 +38,17 @@ constexpr std::size_t kBatch = 2048;
 // from leaving the centre a hair inside, so "never below the plane" holds exactly.
 constexpr Real kSkin = Real(1e-4);
 
+#if INERTIA_PARTICLES_SSE
+// The 4 bits of a comparison mask as 4 bytes of 0 or 1 (little endian), for the dead flags.
+constexpr std::uint32_t kMaskBytes[16] = {
+    0x00000000, 0x00000001, 0x00000100, 0x00000101, 0x00010000, 0x00010001, 0x00010100, 0x00010101,
+    0x01000000, 0x01000001, 0x01000100, 0x01000101, 0x01010000, 0x01010001, 0x01010100, 0x01010101};
+#endif
+
+// Obstacles the vectorised near test filters against; with more, every particle takes the full
+// path (whose loops cull by bounds).
+constexpr std::size_t kMaxNearTests = 64;
+
 // Newton's impact model (seed 000): the normal velocity reverses scaled by e; Coulomb friction
 // takes at most mu times the normal velocity change off the tangential velocity.
 void respond(Vec3& v, const Vec3& n, Real e, Real mu, Real threshold) {
@@ -39,6 +62,92 @@ void respond(Vec3& v, const Vec3& n, Real e, Real mu, Real threshold) {
   v = vt - ee * vn * n;
 }
 
+// One obstacle as the near test sees it: a plane (normal n, offset, skin included) or a world
+// box (inflated by the skin).
+struct NearTest {
+  bool plane;
+  Real n0, n1, n2, offset;
+  Real lo0, lo1, lo2, hi0, hi1, hi2;
+};
+
+// Whether particle j's swept box (start a, end b, inflated by its radius r) may touch obstacle
+// t. Conservative: a false positive only costs the full test.
+inline bool mayTouch(const NearTest& t, const Real* a, const Real* b, Real r) {
+  if (t.plane) {
+    const Real da = t.n0 * a[0] + t.n1 * a[1] + t.n2 * a[2], db = t.n0 * b[0] + t.n1 * b[1] + t.n2 * b[2];
+    return std::min(da, db) < t.offset + r;
+  }
+  return (std::min(a[0], b[0]) - r <= t.hi0) & (std::max(a[0], b[0]) + r >= t.lo0) &
+         (std::min(a[1], b[1]) - r <= t.hi1) & (std::max(a[1], b[1]) + r >= t.lo1) &
+         (std::min(a[2], b[2]) - r <= t.hi2) & (std::max(a[2], b[2]) + r >= t.lo2);
+}
+
+// Writes the batch indices of the particles that may touch some obstacle to `list` (in
+// increasing order) and returns how many. `a` and `b` hold 3 Reals per particle.
+std::size_t nearParticles(std::span<const NearTest> tests, const Real* a, const Real* b, const Real* r,
+                          std::size_t count, std::uint16_t* list) {
+  std::size_t found = 0, j = 0;
+#if INERTIA_PARTICLES_SSE
+  {
+    // Four particles at a time: their 12 coordinates (3 registers) transposed to x, y and z
+    // registers, then every obstacle tested on all four at once.
+    auto transpose = [](const float* p, __m128& x, __m128& y, __m128& z) {
+      const __m128 p0 = _mm_loadu_ps(p), p1 = _mm_loadu_ps(p + 4), p2 = _mm_loadu_ps(p + 8);
+      const __m128 t0 = _mm_shuffle_ps(p0, p1, _MM_SHUFFLE(1, 0, 2, 1));  // y0 z0 y1 z1
+      const __m128 t1 = _mm_shuffle_ps(p1, p2, _MM_SHUFFLE(2, 1, 3, 2));  // x2 y2 x3 y3
+      x = _mm_shuffle_ps(p0, t1, _MM_SHUFFLE(2, 0, 3, 0));
+      y = _mm_shuffle_ps(t0, t1, _MM_SHUFFLE(3, 1, 2, 0));
+      z = _mm_shuffle_ps(t0, p2, _MM_SHUFFLE(3, 0, 3, 1));
+    };
+    // Every test's constants broadcast once: planes (n0, n1, n2, offset), boxes (lo, hi).
+    struct Wide {
+      bool plane;
+      __m128 c[6];
+    };
+    Wide wide[kMaxNearTests];
+    for (std::size_t k = 0; k < tests.size(); ++k) {
+      const NearTest& t = tests[k];
+      wide[k].plane = t.plane;
+      const float values[6] = {t.plane ? t.n0 : t.lo0, t.plane ? t.n1 : t.lo1, t.plane ? t.n2 : t.lo2,
+                               t.plane ? t.offset : t.hi0, t.hi1, t.hi2};
+      for (int q = 0; q < 6; ++q) wide[k].c[q] = _mm_set1_ps(values[q]);
+    }
+    for (; j + 4 <= count; j += 4) {
+      __m128 ax, ay, az, bx, by, bz;
+      transpose(a + 3 * j, ax, ay, az);
+      transpose(b + 3 * j, bx, by, bz);
+      const __m128 rr = _mm_loadu_ps(r + j);
+      // The swept box of each particle, inflated by its radius.
+      const __m128 lx = _mm_sub_ps(_mm_min_ps(ax, bx), rr), hx = _mm_add_ps(_mm_max_ps(ax, bx), rr);
+      const __m128 ly = _mm_sub_ps(_mm_min_ps(ay, by), rr), hy = _mm_add_ps(_mm_max_ps(ay, by), rr);
+      const __m128 lz = _mm_sub_ps(_mm_min_ps(az, bz), rr), hz = _mm_add_ps(_mm_max_ps(az, bz), rr);
+      __m128 any = _mm_setzero_ps();
+      for (std::size_t k = 0; k < tests.size(); ++k) {
+        const __m128* c = wide[k].c;
+        if (wide[k].plane) {
+          const __m128 da = _mm_add_ps(_mm_add_ps(_mm_mul_ps(c[0], ax), _mm_mul_ps(c[1], ay)), _mm_mul_ps(c[2], az));
+          const __m128 db = _mm_add_ps(_mm_add_ps(_mm_mul_ps(c[0], bx), _mm_mul_ps(c[1], by)), _mm_mul_ps(c[2], bz));
+          any = _mm_or_ps(any, _mm_cmplt_ps(_mm_min_ps(da, db), _mm_add_ps(c[3], rr)));
+        } else {
+          const __m128 x = _mm_and_ps(_mm_cmple_ps(lx, c[3]), _mm_cmpge_ps(hx, c[0]));
+          const __m128 y = _mm_and_ps(_mm_cmple_ps(ly, c[4]), _mm_cmpge_ps(hy, c[1]));
+          const __m128 z = _mm_and_ps(_mm_cmple_ps(lz, c[5]), _mm_cmpge_ps(hz, c[2]));
+          any = _mm_or_ps(any, _mm_and_ps(_mm_and_ps(x, y), z));
+        }
+      }
+      for (int mask = _mm_movemask_ps(any); mask != 0; mask &= mask - 1)
+        list[found++] = std::uint16_t(j + std::size_t(std::countr_zero(unsigned(mask))));
+    }
+  }
+#endif
+  for (; j < count; ++j) {
+    bool touch = false;
+    for (const NearTest& t : tests) touch |= mayTouch(t, a + 3 * j, b + 3 * j, r[j]);
+    if (touch) list[found++] = std::uint16_t(j);
+  }
+  return found;
+}
+
 }  // namespace
 
 struct ParticleSystem::Scratch {
@@ -48,6 +157,7 @@ struct ParticleSystem::Scratch {
   std::vector<Real> acceleration;                // coupled integration and backward Euler
   std::vector<std::array<ode::Vector<Real>, 3>> probes;  // per batch: backward Euler's probes
   std::vector<std::uint8_t> dead;
+  std::vector<std::size_t> deaths;  // per batch, summed after the pass
   // Particle-particle collisions.
   UniformGrid grid;
   std::vector<Real> snapshotX, snapshotV;
@@ -66,6 +176,7 @@ ParticleSystem::ParticleSystem(const ParticleSystemSettings& s)
   w.workspaces.resize((s.capacity + kBatch - 1) / kBatch);
   if (s.integrator == ode::Method::BackwardEuler) w.probes.resize(w.workspaces.size());
   w.dead.resize(s.capacity);
+  w.deaths.resize(w.workspaces.size());
 }
 
 ParticleSystem::~ParticleSystem() = default;
@@ -83,6 +194,20 @@ std::size_t ParticleSystem::addField(const ForceField& field) {
   return fields_.size() - 1;
 }
 
+ParticleSystem::ObstacleCache ParticleSystem::makeCache(const Collider& collider, const Transform& pose) {
+  ObstacleCache cache;
+  cache.collider = &collider;
+  cache.pose = pose;
+  cache.bounds = worldBounds(collider.shape(), pose);
+  if (const Plane* plane = collider.shape().getIf<Plane>()) {
+    // n . x <= offset locally; in the world n' = q n and offset' = offset + n' . p.
+    cache.plane = true;
+    cache.normal = pose.rotate(plane->normal);
+    cache.offset = plane->offset + cache.normal.dot(pose.p);
+  }
+  return cache;
+}
+
 std::size_t ParticleSystem::addObstacle(const Obstacle& obstacle) {
   require(obstacle.pose.p.allFinite() && obstacle.pose.q.coeffs().allFinite() &&
               std::fabs(obstacle.pose.q.norm() - 1) < Real(1e-3),
@@ -90,16 +215,39 @@ std::size_t ParticleSystem::addObstacle(const Obstacle& obstacle) {
   obstacles_.push_back(obstacle);
   Obstacle& o = obstacles_.back();
   o.pose.q.normalize();
-  ObstacleCache cache;
-  cache.bounds = worldBounds(o.collider.shape(), o.pose);
-  if (const Plane* plane = o.collider.shape().getIf<Plane>()) {
-    // n . x <= offset locally; in the world n' = q n and offset' = offset + n' . p.
-    cache.plane = true;
-    cache.normal = o.pose.rotate(plane->normal);
-    cache.offset = plane->offset + cache.normal.dot(o.pose.p);
+  // Static obstacles come first in the cache, moving ones after them.
+  const std::size_t k = obstacles_.size() - 1;
+  obstacleCache_.insert(obstacleCache_.begin() + std::ptrdiff_t(k), makeCache(o.collider, o.pose));
+  for (std::size_t i = 0; i < k; ++i) obstacleCache_[i].collider = &obstacles_[i].collider;  // moved
+  planeCount_ += obstacleCache_[k].plane ? 1 : 0;
+  return k;
+}
+
+void ParticleSystem::setMovingObstacles(std::span<const MovingObstacle> obstacles) {
+  for (const MovingObstacle& o : obstacles) {
+    require(o.collider != nullptr, "MovingObstacle::collider must be set");
+    require(o.pose.p.allFinite() && o.pose.q.coeffs().allFinite() &&
+                std::fabs(o.pose.q.norm() - 1) < Real(1e-3),
+            "MovingObstacle::pose must be finite with a unit quaternion");
+    require(o.linearVelocity.allFinite() && o.angularVelocity.allFinite() && o.center.allFinite(),
+            "MovingObstacle: velocities and centre must be finite");
   }
-  obstacleCache_.push_back(cache);
-  return obstacles_.size() - 1;
+  for (std::size_t k = obstacles_.size(); k < obstacleCache_.size(); ++k)
+    planeCount_ -= obstacleCache_[k].plane ? 1 : 0;
+  obstacleCache_.resize(obstacles_.size());
+  for (const MovingObstacle& o : obstacles) {
+    Transform pose = o.pose;
+    pose.q.normalize();
+    ObstacleCache c = makeCache(*o.collider, pose);
+    c.moving = !(o.linearVelocity.isZero(0) && o.angularVelocity.isZero(0));
+    // A moving plane would have to sweep all space; planes sit on static bodies only.
+    if (c.moving && c.plane) c.moving = false;
+    c.linearVelocity = o.linearVelocity;
+    c.angularVelocity = o.angularVelocity;
+    c.center = o.center;
+    planeCount_ += c.plane ? 1 : 0;
+    obstacleCache_.push_back(c);
+  }
 }
 
 std::size_t ParticleSystem::addSpring(const ParticleSpring& spring) {
@@ -169,7 +317,11 @@ void ParticleSystem::step(Real h, tbb::task_arena* arena) {
     integrate(h);
     if (settings_.particleCollisions) collideParticles();
     const std::size_t n = pool_.size();
-    const std::size_t died = pool_.removeFlagged({scratch_->dead.data(), n});
+    std::size_t deaths = 0;
+    const std::size_t batches = (n + kBatch - 1) / kBatch;
+    for (std::size_t b = 0; b < batches; ++b) deaths += scratch_->deaths[b];
+    // The compaction reads every flag: skip it when the pass counted no death.
+    const std::size_t died = deaths > 0 ? pool_.removeFlagged({scratch_->dead.data(), n}) : 0;
     stats_.died += std::int64_t(died);
     if (died > 0 && !springs_.empty()) resolveSprings();
     time_ += double(h);
@@ -184,12 +336,17 @@ void ParticleSystem::integrate(Real h) {
   if (n == 0) return;
   const Real t = Real(time_);
   const bool coupled = !springs_.empty();
-  const bool collide = !obstacles_.empty();
+  const bool collide = !obstacleCache_.empty();
   if (coupled) {
     // The whole pool moves at once: keep every start position for the swept tests.
     if (collide) std::copy_n(pool_.positions().data(), 3 * n, w.previous.data());
     integrateCoupled(h);
   }
+  // Symplectic Euler, the default, takes a fused path: the fields are evaluated into a batch
+  // buffer by the same applyFields() the ode layer's callback calls, then one loop does what
+  // ode::symplecticEuler does (v += h a, then x += h v, element by element: the same bits) and
+  // keeps the start positions on the way. The other methods go through ode::step.
+  const bool fused = !coupled && settings_.integrator == ode::Method::SymplecticEuler;
 
   const std::size_t batches = (n + kBatch - 1) / kBatch;
   tbb::parallel_for(
@@ -199,13 +356,50 @@ void ParticleSystem::integrate(Real h) {
           const std::size_t begin = b * kBatch, count = std::min(kBatch, n - begin);
           std::span<Real> x = pool_.positions().subspan(3 * begin, 3 * count);
           std::span<Real> v = pool_.velocities().subspan(3 * begin, 3 * count);
+          const auto m = pool_.masses().subspan(begin, count);
           // The batch's start positions for the swept tests, on the stack (24 KiB): they stay in
           // cache between integration and collision instead of streaming through memory.
           Real start[3 * kBatch];
           const Real* previous = coupled ? w.previous.data() + 3 * begin : start;
-          if (!coupled && collide) std::copy_n(x.data(), 3 * count, start);
-          if (!coupled) {
-            const auto m = pool_.masses().subspan(begin, count);
+          if (fused) {
+            Real acc[3 * kBatch];
+            // The accelerations start at zero and the fields add to them. A leading gravity
+            // field without a region adds the same g to all: start from 0 + g instead (the same
+            // bits, one pass fewer).
+            std::span<const ForceField> rest = fields_;
+            const GravityField* g = fields_.empty() || fields_[0].region ? nullptr
+                                                                         : std::get_if<GravityField>(&fields_[0].field);
+            if (g) {
+              const Real g0 = Real(0) + g->g[0], g1 = Real(0) + g->g[1], g2 = Real(0) + g->g[2];
+              for (std::size_t i = 0; i < count; ++i) {
+                acc[3 * i] = g0;
+                acc[3 * i + 1] = g1;
+                acc[3 * i + 2] = g2;
+              }
+              rest = rest.subspan(1);
+            } else {
+              std::fill_n(acc, 3 * count, Real(0));
+            }
+            applyFields(rest, FieldBatch{t, x, v, m, {acc, 3 * count}});
+            Real* xs = x.data();
+            Real* vs = v.data();
+            // In chunks of 48 Reals (16 particles, 3 cache lines of each vector array): before
+            // each, the matching lines of the next batch's arrays are asked for, so memory
+            // streams them in while this batch computes (a batch is too short for the hardware
+            // prefetchers to reach full speed on each of its six streams).
+            const std::size_t nextCount = b + 1 < batches ? std::min(kBatch, n - (b + 1) * kBatch) : 0;
+            for (std::size_t j0 = 0; j0 < 3 * count; j0 += 48) {
+              if (j0 < 3 * nextCount) prefetchAhead(b + 1, j0);
+              const std::size_t j1 = std::min(j0 + 48, 3 * count);
+              for (std::size_t j = j0; j < j1; ++j) {
+                const Real vj = vs[j] + h * acc[j];
+                vs[j] = vj;
+                start[j] = xs[j];
+                xs[j] = xs[j] + h * vj;
+              }
+            }
+          } else if (!coupled) {
+            if (collide) std::copy_n(x.data(), 3 * count, start);
             auto accel = [&](Real time, ode::ConstView<Real> xs, ode::ConstView<Real> vs,
                              ode::View<Real> a) {
               a.setZero();
@@ -241,16 +435,102 @@ void ParticleSystem::integrate(Real h) {
               ode::step(settings_.integrator, accel, t, h, x, v, w.workspaces[b]);
             }
           }
-          auto age = pool_.ages().subspan(begin, count);
-          auto life = pool_.lifetimes().subspan(begin, count);
-          for (std::size_t i = 0; i < count; ++i) {
-            age[i] += h;
-            w.dead[begin + i] = age[i] >= life[i];
+          Real* age = pool_.ages().data() + begin;
+          const Real* life = pool_.lifetimes().data() + begin;
+          std::uint8_t* dead = w.dead.data() + begin;
+          std::size_t deaths = 0, i = 0;
+#if INERTIA_PARTICLES_SSE
+          {
+            const __m128 step = _mm_set1_ps(h);
+            for (; i + 4 <= count; i += 4) {
+              const __m128 a = _mm_add_ps(_mm_loadu_ps(age + i), step);
+              _mm_storeu_ps(age + i, a);
+              const unsigned mask = unsigned(_mm_movemask_ps(_mm_cmpge_ps(a, _mm_loadu_ps(life + i))));
+              std::memcpy(dead + i, &kMaskBytes[mask], 4);
+              deaths += std::size_t((0x4332322132212110ull >> (4 * mask)) & 0xF);  // popcount
+            }
           }
+#endif
+          for (; i < count; ++i) {
+            const Real a = age[i] + h;
+            age[i] = a;
+            const bool d = a >= life[i];
+            dead[i] = d;
+            deaths += d;
+          }
+          w.deaths[b] = deaths;
           if (collide) collideObstacles(begin, begin + count, previous);
         }
       },
       tbb::simple_partitioner());
+}
+
+// The full path of collideObstacles() for a system whose only plane is `c`, specialised to a
+// particle that meets no other obstacle: the same operations in the same order, so the same
+// bits. Returns false, changing nothing, when the particle's path (all its swept boxes and its
+// final position, inflated by r) comes near another obstacle's bounds: the full path decides.
+bool ParticleSystem::collidePlaneOnly(const ObstacleCache& c, const Real* previous, Real r, Vec3& endOut,
+                                      Vec3& velOut) const {
+  const Real e = settings_.restitution, mu = settings_.friction,
+             threshold = settings_.restitutionThreshold;
+  Vec3 vel = velOut;
+  Vec3 end1 = endOut;
+  Aabb visited;
+  visited.extend(end1);
+  if (previous) {
+    Vec3 start = Eigen::Map<const Vec3>(previous);
+    visited.extend(start);
+    for (int bounce = 0; bounce < 2; ++bounce) {
+      const Vec3 sweep = end1 - start;
+      if (sweep.squaredNorm() == 0) break;
+      const Real d0 = c.normal.dot(start) - c.offset, d1 = c.normal.dot(end1) - c.offset;
+      if (!(d0 >= 0 && d1 < 0)) break;
+      const Real f = d0 / (d0 - d1);
+      if (!(f < Real(1))) break;  // the full path keeps only hits before the segment's end
+      const Vec3 point = start + f * sweep;
+      const Vec3 before = vel;
+      respond(vel, c.normal, e, mu, threshold);
+      const Real remaining = 1 - f;
+      const Real speedBefore = before.norm();
+      start = point + c.normal * (r + kSkin);
+      end1 = start;
+      if (speedBefore > 0) end1 += vel * (remaining * sweep.norm() / speedBefore);
+      visited.extend(start);
+      visited.extend(end1);
+    }
+  }
+  const Real d = c.normal.dot(end1) - c.offset;
+  if (d < r) {
+    end1 += c.normal * (r + kSkin - d);
+    respond(vel, c.normal, e, mu, threshold);
+  }
+  visited.extend(end1);
+  visited = visited.inflated(r + kSkin);
+  for (const ObstacleCache& o : obstacleCache_)
+    if (!o.plane && o.bounds.overlaps(visited)) return false;
+  endOut = end1;
+  velOut = vel;
+  return true;
+}
+
+// Prefetches the cache lines of batch b's hot arrays that match element j of its vector arrays
+// (3 lines of positions and of velocities, 1 of each scalar array).
+void ParticleSystem::prefetchAhead(std::size_t b, std::size_t j) const {
+#if INERTIA_PARTICLES_SSE
+  const std::size_t begin = b * kBatch;
+  auto lines = [](const Real* p, int count) {
+    for (int q = 0; q < count; ++q) _mm_prefetch(reinterpret_cast<const char*>(p) + 64 * q, _MM_HINT_T0);
+  };
+  lines(pool_.positions().data() + 3 * begin + j, 3);
+  lines(pool_.velocities().data() + 3 * begin + j, 3);
+  lines(pool_.masses().data() + begin + j / 3, 1);
+  lines(pool_.ages().data() + begin + j / 3, 1);
+  lines(pool_.lifetimes().data() + begin + j / 3, 1);
+  lines(pool_.radii().data() + begin + j / 3, 1);
+#else
+  (void)b;
+  (void)j;
+#endif
 }
 
 // Springs couple particles across batches: the whole pool is one system. Fields are still
@@ -285,53 +565,72 @@ void ParticleSystem::collideObstacles(std::size_t begin, std::size_t end, const 
   const auto radii = pool_.radii();
   const Real e = settings_.restitution, mu = settings_.friction,
              threshold = settings_.restitutionThreshold;
-  // Most particles are far from every obstacle. A branch-free pass over the batch marks those
-  // whose swept box (inflated by the radius) may touch one; only they take the full path.
+  // Most particles are far from every obstacle. A vectorised pass over the batch lists those
+  // whose swept box (inflated by the radius) may touch one; only they take the full path below.
   const std::size_t count = end - begin;
-  float near[kBatch];
-  std::fill_n(near, count, 0.0f);
   const Real* a0 = previous ? previous : &xs[3 * begin];
   const Real* b0 = &xs[3 * begin];
-  const Real* r0 = &radii[begin];
-  for (const ObstacleCache& c : obstacleCache_) {
-    if (c.plane) {
-      const Real n0 = c.normal.x(), n1 = c.normal.y(), n2 = c.normal.z(), off = c.offset + kSkin;
-      for (std::size_t j = 0; j < count; ++j) {
-        const Real* a = a0 + 3 * j;
-        const Real* b = b0 + 3 * j;
-        const Real da = n0 * a[0] + n1 * a[1] + n2 * a[2], db = n0 * b[0] + n1 * b[1] + n2 * b[2];
-        near[j] += std::min(da, db) < off + r0[j] ? 1.0f : 0.0f;
-      }
-    } else {
-      const Vec3 lo = c.bounds.lower.array() - kSkin, hi = c.bounds.upper.array() + kSkin;
-      for (std::size_t j = 0; j < count; ++j) {
-        const Real* a = a0 + 3 * j;
-        const Real* b = b0 + 3 * j;
-        const Real r = r0[j];
-        const bool overlap = std::min(a[0], b[0]) - r <= hi[0] && std::max(a[0], b[0]) + r >= lo[0] &&
-                             std::min(a[1], b[1]) - r <= hi[1] && std::max(a[1], b[1]) + r >= lo[1] &&
-                             std::min(a[2], b[2]) - r <= hi[2] && std::max(a[2], b[2]) + r >= lo[2];
-        near[j] += overlap ? 1.0f : 0.0f;
-      }
+  // Many obstacles (bodies): first keep those whose box meets the batch's swept box.
+  Aabb batchBox;
+  if (obstacleCache_.size() > 8) {
+    Real reach = 0;
+    for (std::size_t j = 0; j < count; ++j) {
+      batchBox.extend(Eigen::Map<const Vec3>(a0 + 3 * j));
+      batchBox.extend(Eigen::Map<const Vec3>(b0 + 3 * j));
+      reach = std::max(reach, radii[begin + j]);
     }
+    batchBox = batchBox.inflated(reach + kSkin);
   }
-  for (std::size_t i = begin; i < end; ++i) {
-    if (near[i - begin] == 0.0f) continue;
+  NearTest tests[kMaxNearTests];
+  std::size_t testCount = 0;
+  bool all = false;  // too many to filter: test everyone
+  for (const ObstacleCache& c : obstacleCache_) {
+    if (obstacleCache_.size() > 8 && !c.plane && !c.bounds.overlaps(batchBox)) continue;
+    if (testCount == kMaxNearTests) {
+      all = true;
+      break;
+    }
+    NearTest& t = tests[testCount++];
+    t.plane = c.plane;
+    t.n0 = c.normal.x(), t.n1 = c.normal.y(), t.n2 = c.normal.z(), t.offset = c.offset + kSkin;
+    t.lo0 = c.bounds.lower[0] - kSkin, t.lo1 = c.bounds.lower[1] - kSkin, t.lo2 = c.bounds.lower[2] - kSkin;
+    t.hi0 = c.bounds.upper[0] + kSkin, t.hi1 = c.bounds.upper[1] + kSkin, t.hi2 = c.bounds.upper[2] + kSkin;
+  }
+  std::uint16_t list[kBatch];
+  std::size_t listed = count;
+  if (all) {
+    for (std::size_t j = 0; j < count; ++j) list[j] = std::uint16_t(j);
+  } else {
+    listed = nearParticles({tests, testCount}, a0, b0, &radii[begin], count, list);
+  }
+  // The system's only plane, when there is one: particles near nothing else (most often, those
+  // resting on the ground) take a short path that computes what the full one would.
+  const ObstacleCache* plane = nullptr;
+  if (planeCount_ == 1)
+    for (const ObstacleCache& c : obstacleCache_)
+      if (c.plane) plane = &c;
+  for (std::size_t l = 0; l < listed; ++l) {
+    const std::size_t i = begin + list[l];
     Eigen::Map<Vec3> x(&xs[3 * i]);
     Eigen::Map<Vec3> v(&vs[3 * i]);
     const Real r = radii[i];
     Vec3 vel = v;
     Vec3 end1 = x;
+    if (plane && collidePlaneOnly(*plane, previous ? &previous[3 * (i - begin)] : nullptr, r, end1, vel)) {
+      x = end1;
+      v = vel;
+      continue;
+    }
     if (previous) {
-      // Continuous: follow the swept segment, bouncing at most twice within the step.
+      // Continuous against the static obstacles: follow the swept segment, bouncing at most
+      // twice within the step.
       Vec3 start = Eigen::Map<const Vec3>(&previous[3 * (i - begin)]);
       for (int bounce = 0; bounce < 2; ++bounce) {
         const Vec3 sweep = end1 - start;
         if (sweep.squaredNorm() == 0) break;
         const Aabb swept = Aabb{start.cwiseMin(end1), start.cwiseMax(end1)}.inflated(r);
         std::optional<RayHit> first;
-        for (std::size_t k = 0; k < obstacles_.size(); ++k) {
-          const ObstacleCache& c = obstacleCache_[k];
+        for (const ObstacleCache& c : obstacleCache_) {
           const Real maxFraction = first ? first->fraction : Real(1);
           if (c.plane) {
             // Enters the half-space where the signed distance changes sign from + to -.
@@ -342,8 +641,8 @@ void ParticleSystem::collideObstacles(std::size_t begin, std::size_t end, const 
             }
             continue;
           }
-          if (!c.bounds.overlaps(swept)) continue;
-          auto hit = castRay(obstacles_[k].collider, obstacles_[k].pose, Ray{start, sweep, maxFraction});
+          if (c.moving || !c.bounds.overlaps(swept)) continue;
+          auto hit = castRay(*c.collider, c.pose, Ray{start, sweep, maxFraction});
           if (hit && (!first || hit->fraction < first->fraction)) first = hit;
         }
         if (!first) break;
@@ -358,8 +657,7 @@ void ParticleSystem::collideObstacles(std::size_t begin, std::size_t end, const 
       }
     }
     // Discrete: whatever is still within a radius of an obstacle is pushed out along the normal.
-    for (std::size_t k = 0; k < obstacles_.size(); ++k) {
-      const ObstacleCache& c = obstacleCache_[k];
+    for (const ObstacleCache& c : obstacleCache_) {
       if (c.plane) {
         const Real d = c.normal.dot(end1) - c.offset;
         if (d < r) {
@@ -369,10 +667,18 @@ void ParticleSystem::collideObstacles(std::size_t begin, std::size_t end, const 
         continue;
       }
       if (!c.bounds.inflated(r).contains(end1)) continue;  // farther than r from the shape
-      const PointQuery q = queryPoint(obstacles_[k].collider, obstacles_[k].pose, end1);
+      const PointQuery q = queryPoint(*c.collider, c.pose, end1);
       if (q.distance < r) {
         end1 += q.normal * (r + kSkin - q.distance);
-        respond(vel, q.normal, e, mu, threshold);
+        if (c.moving) {
+          // Newton and Coulomb on the velocity relative to the surface point touched.
+          const Vec3 surface = c.linearVelocity + c.angularVelocity.cross(q.point - c.center);
+          Vec3 relative = vel - surface;
+          respond(relative, q.normal, e, mu, threshold);
+          vel = relative + surface;
+        } else {
+          respond(vel, q.normal, e, mu, threshold);
+        }
       }
     }
     x = end1;
@@ -427,7 +733,7 @@ void ParticleSystem::collideParticles() {
           }
         },
         tbb::simple_partitioner());
-    if (obstacles_.empty()) continue;
+    if (obstacleCache_.empty()) continue;
     // Corrections may push particles into obstacles: push them back out (discrete test).
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, batches, 1),
                       [&](const tbb::blocked_range<std::size_t>& r) {

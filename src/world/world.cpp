@@ -52,13 +52,55 @@ void World::step(Real dt) {
   dynamics.sleeping = settings_.sleeping;
   dynamics.combine = settings_.combine;
   dynamics.contact = settings_.contact;
+  // Emitters on bodies are placed where their body is at the start of the step, where the
+  // particle systems' step starts too: the new particles then move on through the step as the
+  // body does.
+  for (ParticleSlot& slot : particleSlots_)
+    if (slot.system) followBodies(*slot.system);
   bodies_.step(dt, dynamics, &threads_->arena);
   const auto t0 = Clock::now();
-  for (ParticleSlot& slot : particleSlots_)
-    if (slot.system) slot.system->step(dt, &threads_->arena);
+  bool obstaclesGathered = false;
+  for (ParticleSlot& slot : particleSlots_) {
+    if (!slot.system) continue;
+    ParticleSystem& ps = *slot.system;
+    if (ps.settings().collideWithBodies) {
+      if (!obstaclesGathered) gatherBodyObstacles();
+      obstaclesGathered = true;
+      ps.setMovingObstacles(bodyObstacles_);
+    }
+    ps.step(dt, &threads_->arena);
+  }
   phases_.particles += std::chrono::duration<double>(Clock::now() - t0).count();
   time_ += double(dt);
   ++steps_;
+}
+
+// Emitters attached to bodies take the body's pose and velocity field.
+// An emitter whose body was destroyed stays where it last was, still.
+void World::followBodies(ParticleSystem& ps) {
+  for (std::size_t k = 0; k < ps.emitterCount(); ++k) {
+    Emitter& e = ps.emitter(k);
+    const BodyId body = e.settings().attachTo;
+    if (body.isNull()) continue;
+    if (!bodies_.isValid(body)) {
+      e.setCarrierVelocity(Vec3::Zero(), Vec3::Zero(), Vec3::Zero());
+      continue;
+    }
+    e.setPose(bodies_.transform(body) * e.localPose());
+    e.setCarrierVelocity(bodies_.linearVelocity(body), bodies_.angularVelocity(body), bodies_.centerOfMass(body));
+  }
+}
+
+// Every body's shapes with their poses and the bodies' velocity fields, in body and shape order
+// (deterministic), for particle systems that collide with bodies.
+void World::gatherBodyObstacles() {
+  bodyObstacles_.clear();
+  for (BodyId body : bodies_.bodies()) {
+    const Vec3 v = bodies_.linearVelocity(body), w = bodies_.angularVelocity(body);
+    const Vec3 center = bodies_.centerOfMass(body);
+    for (ShapeId shape : bodies_.shapes(body))
+      bodyObstacles_.push_back({&bodies_.collider(shape), bodies_.shapeTransform(shape), v, w, center});
+  }
 }
 
 ParticleSystemId World::createParticleSystem(const ParticleSystemSettings& settings) {

@@ -149,7 +149,34 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{R"({"particle_systems": [{"obstacles": [{"type": "hull", "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]}]}]})",
                 "/particle_systems/0/obstacles/0", "invalid hull"},
         BadCase{R"({"particle_systems": [{"integrator": "leapfrog"}]})", "/particle_systems/0/integrator",
-                "unknown integrator"}));
+                "unknown integrator"},
+        BadCase{R"({"particle_systems": [{"collide_with_bodies": 1}]})", "/particle_systems/0/collide_with_bodies",
+                "expected true or false"},
+        BadCase{R"({"bodies": [{"name": "cart"}], "particle_systems": [{"emitters": [{"type": "point", "attach_to": "kart"}]}]})",
+                "/particle_systems/0/emitters/0/attach_to", "no body is named \"kart\""},
+        BadCase{R"({"bodies": [{"name": "cart"}, {"name": "cart"}],
+                    "particle_systems": [{"emitters": [{"type": "point", "attach_to": "cart"}]}]})",
+                "/particle_systems/0/emitters/0/attach_to", "2 bodies are named"},
+        BadCase{R"({"bodies": [{"name": "cart"}], "particle_systems": [{"emitters": [{"type": "point", "attach_to": 0}]}]})",
+                "/particle_systems/0/emitters/0/attach_to", "string"}));
+
+TEST(Scene, ParticlesCollideWithBodiesAndRideOnThem) {
+  io::Scene s = parseScene(R"({
+    "bodies": [ {"name": "ground", "type": "static", "shapes": [{"type": "plane", "normal": [0, 1, 0], "offset": 0}]},
+                {"name": "wheel", "type": "kinematic", "position": [0, 1, 0], "angular_velocity": [0, 0, 3],
+                 "shapes": [{"type": "cylinder", "radius": 0.5, "half_height": 0.1}]} ],
+    "particle_systems": [ { "collide_with_bodies": true,
+      "emitters": [ { "type": "point", "position": [0.6, 0, 0], "rate": 100, "attach_to": "wheel" } ] } ] })",
+                           "wheel.json");
+  const io::ParticleSystemDesc& d = s.particleSystems.at(0);
+  EXPECT_TRUE(d.settings.collideWithBodies);
+  EXPECT_EQ(d.emitters.at(0).attachToName, "wheel");
+  auto world = io::instantiate(s);
+  ParticleSystem& ps = world->particleSystem(world->particleSystems().at(0));
+  const BodyId wheel = ps.emitter(0).settings().attachTo;
+  ASSERT_TRUE(world->isValid(wheel));
+  EXPECT_EQ(world->rigidBodies().name(wheel), "wheel");
+}
 
 TEST(Scene, ReadsParticleSystems) {
   io::Scene s = parseScene(R"({

@@ -17,6 +17,14 @@ struct Id {
   friend bool operator==(const Id&, const Id&) = default;
 };
 
+// The handles are declared here, below every layer, so that a layer can name an object of a
+// higher one (an emitter riding on a body) without including it.
+struct BodyTag;
+/// A rigid body in a World.
+using BodyId = Id<BodyTag>;
+struct ShapeTag;
+/// A shape attached to a body.
+using ShapeId = Id<ShapeTag>;
 struct ParticleSystemTag;
 /// A particle system in a World.
 using ParticleSystemId = Id<ParticleSystemTag>;

@@ -10,12 +10,7 @@
 
 namespace inertia {
 
-struct BodyTag;
-/// A rigid body in a World.
-using BodyId = Id<BodyTag>;
-struct ShapeTag;
-/// A shape attached to a body.
-using ShapeId = Id<ShapeTag>;
+// BodyId and ShapeId: core/id.h.
 
 /// How a body moves (the seeds' "mixed dynamics"):
 /// - Static: never moves, infinite mass; costs nothing per step unless something touches it.

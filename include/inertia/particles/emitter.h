@@ -5,7 +5,9 @@
 #include <cstdint>
 #include <memory>
 #include <random>
+#include <string>
 
+#include "inertia/core/id.h"
 #include "inertia/core/types.h"
 #include "inertia/particles/pool.h"
 
@@ -55,6 +57,13 @@ struct EmitterSettings {
   Vec3 colorMin = Vec3::Ones();  ///< A particle's colour is a random blend of the two.
   Vec3 colorMax = Vec3::Ones();
   std::uint64_t seed = 1;    ///< Same seed, same particles.
+  /// The rigid body the emitter rides on, in a World (null: fixed in the world). `pose` is
+  /// then relative to the body's origin; before every step the world moves the emitter with
+  /// the body, and new particles get the body's velocity at their emission point, v + w x r,
+  /// on top of their emission velocity (turned with the body).
+  BodyId attachTo{};
+  /// Scene files name the body instead: io::instantiate() resolves the name into attachTo.
+  std::string attachToName{};
 };
 
 /// Throws InvalidArgument naming the first bad field (negative rate, empty or reversed
@@ -71,6 +80,12 @@ class Emitter {
   const EmitterSettings& settings() const { return settings_; }
   /// Moves the emitter (e.g. attached to a moving body).
   void setPose(const Transform& pose) { settings_.pose = pose; }
+  /// The pose it was created with (relative to its body when attached).
+  const Transform& localPose() const { return localPose_; }
+  /// The velocity field of what carries the emitter, v(x) = linear + angular x (x - center)
+  /// (m/s, rad/s, m): added to every new particle's velocity at its emission point. Zero by
+  /// default; a World sets it for emitters attached to bodies.
+  void setCarrierVelocity(const Vec3& linear, const Vec3& angular, const Vec3& center);
 
   /// Emits the particles due over a step of `h` seconds (the burst on the first call, then
   /// rate * h plus the carried fraction) into `pool`. Each new particle is given a random age
@@ -90,6 +105,9 @@ class Emitter {
   void place(Vec3& position, Vec3& direction);
 
   EmitterSettings settings_;
+  Transform localPose_{};
+  bool carried_ = false;  // a carrier velocity was set (else nothing is added: same bits as before)
+  Vec3 carrierLinear_ = Vec3::Zero(), carrierAngular_ = Vec3::Zero(), carrierCenter_ = Vec3::Zero();
   std::mt19937_64 rng_;
   std::vector<double> cumulativeArea_;  // mesh emitters: area prefix sums for sampling
   double carry_ = 0;

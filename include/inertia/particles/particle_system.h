@@ -25,6 +25,18 @@ struct Obstacle {
   Transform pose;
 };
 
+/// An obstacle owned elsewhere (a rigid body's shape) that may move: its collider, its world
+/// pose for this step and its rigid velocity field v(x) = linearVelocity + angularVelocity x
+/// (x - center). Given to ParticleSystem::setMovingObstacles() before each step; the collider
+/// must stay alive until that step is over.
+struct MovingObstacle {
+  const Collider* collider = nullptr;
+  Transform pose{};
+  Vec3 linearVelocity = Vec3::Zero();   ///< Velocity of `center` (m/s).
+  Vec3 angularVelocity = Vec3::Zero();  ///< rad/s
+  Vec3 center = Vec3::Zero();           ///< Reference point of linearVelocity (m, world).
+};
+
 /// A damped spring between two particles (seed 002's n-ary forces):
 /// F_a = -(k (|d| - rest) + c (dv . d^)) d^, d = x_a - x_b, and F_b = -F_a.
 struct ParticleSpring {
@@ -47,6 +59,10 @@ struct ParticleSystemSettings {
   /// Collide particles with each other as spheres of their radii (granular media), found
   /// through a uniform grid.
   bool particleCollisions = false;
+  /// When stepped by a World: every rigid body's shapes are obstacles too (the world passes
+  /// them with setMovingObstacles()), and the collision response uses the velocity relative to
+  /// the body's surface (restitution and friction are this system's).
+  bool collideWithBodies = false;
 };
 
 /// Counters of a particle system since it was created.
@@ -82,6 +98,18 @@ class ParticleSystem {
   Emitter& emitter(std::size_t i) { return emitters_.at(i); }
   std::span<const ForceField> fields() const { return fields_; }
   std::span<const Obstacle> obstacles() const { return obstacles_; }
+  std::size_t emitterCount() const { return emitters_.size(); }
+
+  /// Sets the moving obstacles of the next steps (a World does it before every step when
+  /// settings().collideWithBodies). Each is validated (InvalidArgument); their colliders must
+  /// outlive the steps that use them. Particles collide with a static one (zero velocity)
+  /// continuously, like with an Obstacle; with a moving one discretely at the end of the step:
+  /// a particle within its radius of the obstacle's surface is pushed out along the normal and
+  /// its velocity relative to the surface answers as in an impact (Newton and Coulomb), so a
+  /// particle resting on a moving platform is carried along and a body sweeping into particles
+  /// pushes them. A particle can pass through a body moving by more than about its own size per
+  /// step (no swept test against moving bodies).
+  void setMovingObstacles(std::span<const MovingObstacle> obstacles);
   std::span<const ParticleSpring> springs() const { return springs_; }
 
   ParticlePool& pool() { return pool_; }
@@ -103,6 +131,7 @@ class ParticleSystem {
   struct Scratch;
   void integrate(Real h);
   void integrateCoupled(Real h);
+  void prefetchAhead(std::size_t batch, std::size_t element) const;
   /// Collides particles [begin, end) with the obstacles. `previous` holds their positions at
   /// the start of the step (3 Reals each, from `begin`) for the swept test, or is null for a
   /// discrete test only.
@@ -119,13 +148,22 @@ class ParticleSystem {
   std::vector<Obstacle> obstacles_;
   // Per obstacle, computed when added: world bounds to cull tests, and for planes the world
   // normal and offset, tested inline (the ground plane meets every particle every step).
+  // Moving obstacles (setMovingObstacles) follow the static ones in obstacleCache_.
   struct ObstacleCache {
     Aabb bounds;
+    const Collider* collider = nullptr;
+    Transform pose{};
     bool plane = false;
     Vec3 normal = Vec3::UnitY();
     Real offset = 0;
+    bool moving = false;  // non-zero velocity: discrete test with the relative velocity
+    Vec3 linearVelocity = Vec3::Zero(), angularVelocity = Vec3::Zero(), center = Vec3::Zero();
   };
+  static ObstacleCache makeCache(const Collider& collider, const Transform& pose);
   std::vector<ObstacleCache> obstacleCache_;
+  std::size_t planeCount_ = 0;  // planes among obstacleCache_
+  bool collidePlaneOnly(const ObstacleCache& plane, const Real* previous, Real r, Vec3& end,
+                        Vec3& velocity) const;
   std::vector<ParticleSpring> springs_;
   std::vector<std::uint32_t> springIndex_;  // 2 per spring: pool indices of a and b
   std::unique_ptr<Scratch> scratch_;

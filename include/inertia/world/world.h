@@ -94,7 +94,10 @@ class World {
   int contactCount() const { return bodies_.contactCount(); }
 
   /// Adds a particle system (InvalidArgument for invalid settings); the world steps it once
-  /// per step with the step's dt.
+  /// per step with the step's dt, after the bodies. Before that step it moves the emitters
+  /// attached to bodies (EmitterSettings::attachTo) with them and, when the system's
+  /// settings().collideWithBodies, gives it every body's shapes as moving obstacles. Particles
+  /// do not push bodies back.
   ParticleSystemId createParticleSystem(const ParticleSystemSettings& settings);
   /// Removes it; its id becomes invalid. Throws InvalidArgument for an invalid id.
   void destroyParticleSystem(ParticleSystemId id);
@@ -122,6 +125,8 @@ class World {
 
  private:
   struct Threads;
+  void followBodies(ParticleSystem& ps);
+  void gatherBodyObstacles();
   struct ParticleSlot {
     std::unique_ptr<ParticleSystem> system;  // null when the slot is free
     std::uint32_t generation = 1;
@@ -134,6 +139,7 @@ class World {
   double accumulator_ = 0;
   std::int64_t steps_ = 0;
   PhaseTimes phases_;
+  std::vector<MovingObstacle> bodyObstacles_;  // scratch of step(), reused
 };
 
 }  // namespace inertia
