@@ -7,21 +7,11 @@
 
 #include "inertia/core/error.h"
 #include "inertia/particles/particle_system.h"
+#include "particle_test_util.h"
 
 using namespace inertia;
+using inertia::test::particle;
 
-namespace {
-
-ParticlePool::Spawn particle(const Vec3& x, const Vec3& v, Real radius = 0) {
-  ParticlePool::Spawn s;
-  s.position = x;
-  s.velocity = v;
-  s.radius = radius;
-  s.lifetime = std::numeric_limits<Real>::infinity();
-  return s;
-}
-
-}  // namespace
 
 TEST(ParticleMovingObstacles, InvalidObstaclesAreRejected) {
   ParticleSystem ps({.capacity = 4});

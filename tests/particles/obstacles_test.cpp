@@ -6,19 +6,12 @@
 #include "inertia/collision/queries.h"
 #include "inertia/geometry/bounds.h"
 #include "inertia/particles/particle_system.h"
+#include "particle_test_util.h"
 
 using namespace inertia;
+using inertia::test::particle;
 
 namespace {
-
-ParticlePool::Spawn particle(const Vec3& x, const Vec3& v, Real radius = 0) {
-  ParticlePool::Spawn s;
-  s.position = x;
-  s.velocity = v;
-  s.radius = radius;
-  s.lifetime = std::numeric_limits<Real>::infinity();
-  return s;
-}
 
 Obstacle obstacle(Shape shape, const Vec3& p = Vec3::Zero(), const Quat& q = Quat::Identity()) {
   return {Collider(std::move(shape)), Transform{p, q}};

@@ -7,19 +7,12 @@
 
 #include "inertia/collision/queries.h"
 #include "inertia/world/world.h"
+#include "../particles/particle_test_util.h"
 
 using namespace inertia;
+using inertia::test::particle;
 
 namespace {
-
-ParticlePool::Spawn particle(const Vec3& x, const Vec3& v, Real radius) {
-  ParticlePool::Spawn s;
-  s.position = x;
-  s.velocity = v;
-  s.radius = radius;
-  s.lifetime = std::numeric_limits<Real>::infinity();
-  return s;
-}
 
 constexpr Real kG = Real(9.81);
 
