@@ -94,7 +94,7 @@ TEST_F(ViewCommand, BadInputExitsTwo) {
 // Under a virtual X server: 30 frames of the pyramid, the last one written as PNG.
 TEST_F(ViewCommand, ScreenshotUnderXvfbShowsTheScene) {
   if (std::system("command -v xvfb-run > /dev/null 2>&1 && command -v xauth > /dev/null 2>&1"))
-    GTEST_SKIP() << "xvfb-run or xauth is not installed (scripts/setup installs both)";
+    FAIL() << "xvfb-run or xauth is not installed: run scripts/setup, which installs both";
   const std::string xvfb = "xvfb-run -a -s '-screen 0 1024x768x24'";
   const std::string shot = path("view.png");
   const CliResult r = runCli("view " + scene("pyramid.json") +
