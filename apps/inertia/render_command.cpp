@@ -76,12 +76,7 @@ int renderScene(const RenderOptions& o) {
     return badInput("--time: ", "only for a single .png; sequences and videos use --duration");
 
   io::Scene scene;
-  try {
-    scene = io::loadScene(o.scene);
-  } catch (const io::SceneError& e) {
-    std::fprintf(stderr, "inertia: %s\n", e.what());
-    return kBadInput;
-  }
+  if (!loadSceneReporting(o.scene, scene)) return kBadInput;
   if (o.threads) scene.world.threads = *o.threads;
   std::unique_ptr<World> world;
   try {

@@ -57,14 +57,19 @@ nlohmann::json statsJson(const World& world, double wallTime) {
 
 }  // namespace
 
-int runScene(const RunOptions& o) {
-  io::Scene scene;
+bool loadSceneReporting(const std::string& file, io::Scene& scene) {
   try {
-    scene = io::loadScene(o.scene);
+    scene = io::loadScene(file);
+    return true;
   } catch (const io::SceneError& e) {
     std::fprintf(stderr, "inertia: %s\n", e.what());
-    return kBadInput;
+    return false;
   }
+}
+
+int runScene(const RunOptions& o) {
+  io::Scene scene;
+  if (!loadSceneReporting(o.scene, scene)) return kBadInput;
   if (o.dt) scene.world.dt = Real(*o.dt);
   if (o.threads) scene.world.threads = *o.threads;
   if (!(std::isfinite(scene.world.dt) && scene.world.dt > 0)) {

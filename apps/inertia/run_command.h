@@ -5,6 +5,10 @@
 #include <optional>
 #include <string>
 
+namespace inertia::io {
+struct Scene;
+}
+
 namespace inertia::app {
 
 /// Exit codes of the command (DESIGN.md section 5).
@@ -25,6 +29,10 @@ struct RunOptions {
 };
 
 int runScene(const RunOptions& options);
+
+/// Loads a scene file into `scene`; on a SceneError prints it (file, JSON pointer, reason) and
+/// returns false, for the commands to exit with kBadInput.
+bool loadSceneReporting(const std::string& file, io::Scene& scene);
 int validateScene(const std::string& scene);
 
 }  // namespace inertia::app

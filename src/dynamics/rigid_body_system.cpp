@@ -218,6 +218,7 @@ struct RigidBodySystem::Data {
   bool pairsDirty = true;
   std::vector<std::pair<int, int>> proxyPairs;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> mergedShapePairs;  // scratch of the merge
   std::vector<ContactManifold> manifolds;
   std::vector<ContactInfo> previous;
   std::vector<ContactExtra> previousExtras;
@@ -762,7 +763,11 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
   const auto treeEnd = D.pairs.begin() + std::ptrdiff_t(treeCount);
   if (!std::is_sorted(D.pairs.begin(), treeEnd)) std::sort(D.pairs.begin(), treeEnd);
   std::sort(treeEnd, D.pairs.end());
-  std::inplace_merge(D.pairs.begin(), treeEnd, D.pairs.end());
+  // Merged into a kept buffer (std::inplace_merge would allocate one every step).
+  D.mergedShapePairs.clear();
+  std::merge(D.pairs.begin(), treeEnd, treeEnd, D.pairs.end(),
+             std::back_inserter(D.mergedShapePairs));
+  std::swap(D.pairs, D.mergedShapePairs);
   D.pairs.erase(std::unique(D.pairs.begin(), D.pairs.end()), D.pairs.end());
   auto t1 = Clock::now();
   D.times.broadPhase += std::chrono::duration<double>(t1 - t0).count();

@@ -3,12 +3,12 @@
 #include "render_command.h"
 
 #include <gtest/gtest.h>
-#include <stb_image.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <vector>
 
+#include "png_test_util.h"
 #include "run_cli.h"
 
 namespace inertia::test {
@@ -25,17 +25,7 @@ const char* kFallingBall = R"({
   ]
 })";
 
-struct Png {
-  int width = 0, height = 0;
-  std::vector<std::uint8_t> rgb;
-  bool load(const std::string& file) {
-    int n = 0;
-    unsigned char* data = stbi_load(file.c_str(), &width, &height, &n, 3);
-    if (!data) return false;
-    rgb.assign(data, data + 3 * std::size_t(width) * std::size_t(height));
-    stbi_image_free(data);
-    return true;
-  }
+struct Png : test::PngImage {
   double lumaVariance() const {
     double sum = 0, sum2 = 0;
     const std::size_t n = rgb.size() / 3;
@@ -52,7 +42,7 @@ struct Png {
     int n = 0;
     for (int y = 0; y < height; ++y)
       for (int x = 0; x < width; ++x) {
-        const std::uint8_t* p = &rgb[3 * (std::size_t(y) * width + x)];
+        const std::uint8_t* p = at(x, y);
         if (p[0] > 60 && p[0] > 2 * p[1] && p[0] > 2 * p[2]) rows += y, ++n;
       }
     if (count) *count = n;

@@ -4,11 +4,11 @@
 #include "view_command.h"
 
 #include <gtest/gtest.h>
-#include <stb_image.h>
 
 #include <cstdlib>
 #include <vector>
 
+#include "png_test_util.h"
 #include "run_cli.h"
 
 namespace inertia::test {
@@ -21,18 +21,7 @@ std::string scene(const std::string& name) {
   return std::string(root ? root : ".") + "/scenes/" + name;
 }
 
-struct Png {
-  int width = 0, height = 0;
-  std::vector<std::uint8_t> rgb;
-  bool load(const std::string& file) {
-    int n = 0;
-    unsigned char* data = stbi_load(file.c_str(), &width, &height, &n, 3);
-    if (!data) return false;
-    rgb.assign(data, data + 3 * std::size_t(width) * std::size_t(height));
-    stbi_image_free(data);
-    return true;
-  }
-  const std::uint8_t* at(int x, int y) const { return &rgb[3 * (std::size_t(y) * width + x)]; }
+struct Png : test::PngImage {
   // Pixels in [x0, x1) x [y0, y1) whose channels spread by more than 60 (coloured boxes, not
   // the grey ground, the pale sky or the dark panel).
   int colourful(int x0, int y0, int x1, int y1) const {
