@@ -5,57 +5,22 @@
 #include <numbers>
 #include <numeric>
 
+#include <cstring>
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#define INERTIA_HAVE_AVX2_KERNELS 1
+#endif
 
 namespace inertia::detail {
 
 namespace {
 
-// The static body: no velocity, no motion, infinite mass.
-const SolverBody kStatic{};
-
 Real invEffective(Real k) { return k > 0 ? Real(1) / k : Real(0); }
-
-// An impulse `lambda` along one row: direction d, Jacobian images wA = invIA (rA x d) and
-// wB = invIB (rB x d).
-[[gnu::always_inline]] inline void applyRow(SolverBody& a, SolverBody& b, const Vec3& d, const Vec3& wA, const Vec3& wB,
-                     Real lambda) {
-  a.v -= (a.invMass * lambda) * d;
-  a.w -= lambda * wA;
-  b.v += (b.invMass * lambda) * d;
-  b.w += lambda * wB;
-}
-
-// The velocity along one row: d . (vB - vA) + wB . (rB x d) - wA . (rA x d).
-[[gnu::always_inline]] inline Real rowVelocity(const SolverBody& a, const SolverBody& b, const Vec3& d, const Vec3& rA,
-                        const Vec3& rB) {
-  return d.dot(b.v - a.v) + b.w.dot(rB) - a.w.dot(rA);
-}
-
-inline void applyAngular(SolverBody& a, SolverBody& b, const Vec3& L) {
-  a.w -= a.invInertia * L;
-  b.w += b.invInertia * L;
-}
-
-// The normal n in the frames of A's and B's motion since the step's start (n . (dR r) =
-// (dR^T n) . r), so a point's current separation costs two dot products.
-struct MovedNormal {
-  Vec3 a = Vec3::Zero();
-  Vec3 b = Vec3::Zero();
-  Real offset = 0;  ///< n . (dpB - dpA)
-};
-
-[[gnu::always_inline]] inline MovedNormal movedNormal(const SolverBody& a, const SolverBody& b,
-                                            const Vec3& n) {
-  return {a.dR.transpose() * n, b.dR.transpose() * n, n.dot(b.dp - a.dp)};
-}
-
-// The separation of point p now, from the bodies' motion since the step's start.
-[[gnu::always_inline]] inline Real currentSeparation(const MovedNormal& m, const ConstraintPoint& p) {
-  return m.offset + m.b.dot(p.rB) - m.a.dot(p.rA) + p.adjustedSeparation;
-}
 
 }  // namespace
 
@@ -98,189 +63,6 @@ void computeMasses(ContactConstraint& c, const SolverBody& a, const SolverBody& 
   c.spinningMass = invEffective(c.normal.dot(iSum * c.normal));
 }
 
-namespace {
-
-void warmStartOne(ContactConstraint& c, SolverBody& a, SolverBody& b) {
-  for (int i = 0; i < c.pointCount; ++i) {
-    const ConstraintPoint& p = c.points[static_cast<std::size_t>(i)];
-    applyRow(a, b, c.normal, p.wnA, p.wnB, p.normalImpulse);
-    for (std::size_t k = 0; k < 2; ++k)
-      applyRow(a, b, c.tangent[k], p.wtA[k], p.wtB[k], p.tangentImpulse[k]);
-  }
-  if (c.rolling > 0 || c.spinning > 0)
-    applyAngular(a, b,
-                 c.rollingImpulse[0] * c.tangent[0] + c.rollingImpulse[1] * c.tangent[1] +
-                     c.spinningImpulse * c.normal);
-}
-
-void solveOne(ContactConstraint& c, SolverBody& a, SolverBody& b, const BiasMode& mode) {
-  {
-    const Vec3& n = c.normal;
-    const MovedNormal moved = movedNormal(a, b, n);
-    Real totalNormal = 0;
-
-    // Non-penetration rows.
-    for (int i = 0; i < c.pointCount; ++i) {
-      ConstraintPoint& p = c.points[static_cast<std::size_t>(i)];
-      const Real s = currentSeparation(moved, p);
-      Real bias = 0, massScale = 1, impulseScale = 0;
-      if (s > 0) {
-        bias = s * mode.invH;  // speculative: the gap may close within this substep, no more
-      } else if (mode.useBias) {
-        if (mode.soft) {
-          bias = std::max(c.softness.biasRate * s, -mode.pushVelocity);
-          massScale = c.softness.massScale;
-          impulseScale = c.softness.impulseScale;
-        } else {
-          // Baumgarte: feed back a fraction of the overlap beyond the slop.
-          bias = std::max(mode.baumgarte * mode.invH * std::min(s + mode.linearSlop, Real(0)),
-                          -mode.pushVelocity);
-        }
-      }
-      const Real vn = rowVelocity(a, b, n, p.rnA, p.rnB);
-      Real impulse = -p.normalMass * massScale * (vn + bias) - impulseScale * p.normalImpulse;
-      const Real updated = std::max(p.normalImpulse + impulse, Real(0));
-      impulse = updated - p.normalImpulse;
-      p.normalImpulse = updated;
-      p.maxNormalImpulse = std::max(p.maxNormalImpulse, impulse);
-      totalNormal += updated;
-      applyRow(a, b, n, p.wnA, p.wnB, impulse);
-    }
-
-    // Coulomb friction: the tangential impulse stays in the disc of radius mu * normal.
-    for (int i = 0; i < c.pointCount; ++i) {
-      ConstraintPoint& p = c.points[static_cast<std::size_t>(i)];
-      std::array<Real, 2> updated;
-      for (std::size_t k = 0; k < 2; ++k)
-        updated[k] = p.tangentImpulse[k] -
-                     p.tangentMass[k] * rowVelocity(a, b, c.tangent[k], p.rtA[k], p.rtB[k]);
-      const Real limit = c.friction * p.normalImpulse;
-      const Real len2 = updated[0] * updated[0] + updated[1] * updated[1];
-      // Without a branch (sliding or sticking is unpredictable): scaling by 1 is exact.
-      const Real scale = len2 > limit * limit ? limit / std::sqrt(len2) : Real(1);
-      updated[0] *= scale;
-      updated[1] *= scale;
-      for (std::size_t k = 0; k < 2; ++k)
-        applyRow(a, b, c.tangent[k], p.wtA[k], p.wtB[k], updated[k] - p.tangentImpulse[k]);
-      p.tangentImpulse = updated;
-    }
-    // Rolling resistance (torque <= b N about the tangents) and spinning friction.
-    if (c.rolling > 0) {
-      const Vec3 dw = b.w - a.w;
-      std::array<Real, 2> updated;
-      for (int k = 0; k < 2; ++k)
-        updated[k] = c.rollingImpulse[k] - c.rollingMass[k] * dw.dot(c.tangent[k]);
-      const Real limit = c.rolling * totalNormal;
-      const Real len2 = updated[0] * updated[0] + updated[1] * updated[1];
-      if (len2 > limit * limit) {
-        const Real scale = limit / std::sqrt(len2);
-        updated[0] *= scale;
-        updated[1] *= scale;
-      }
-      applyAngular(a, b, (updated[0] - c.rollingImpulse[0]) * c.tangent[0] +
-                             (updated[1] - c.rollingImpulse[1]) * c.tangent[1]);
-      c.rollingImpulse = updated;
-    }
-    if (c.spinning > 0) {
-      const Real limit = c.spinning * totalNormal;
-      const Real updated = std::clamp(c.spinningImpulse - c.spinningMass * (b.w - a.w).dot(n),
-                                      -limit, limit);
-      applyAngular(a, b, (updated - c.spinningImpulse) * n);
-      c.spinningImpulse = updated;
-    }
-  }
-}
-
-}  // namespace
-
-void updateApproach(std::vector<ContactConstraint>& cs, const std::vector<SolverBody>& bodies) {
-  for (ContactConstraint& c : cs) {
-    if (c.restitution == 0) continue;
-    const SolverBody& a = c.bodyA >= 0 ? bodies[static_cast<std::size_t>(c.bodyA)] : kStatic;
-    const SolverBody& b = c.bodyB >= 0 ? bodies[static_cast<std::size_t>(c.bodyB)] : kStatic;
-    const MovedNormal moved = movedNormal(a, b, c.normal);
-    for (int i = 0; i < c.pointCount; ++i) {
-      ConstraintPoint& p = c.points[static_cast<std::size_t>(i)];
-      if (p.maxNormalImpulse == 0 && currentSeparation(moved, p) > 0)
-        p.relativeVelocity = rowVelocity(a, b, c.normal, p.rnA, p.rnB);
-    }
-  }
-}
-
-namespace {
-
-void restitutionOne(ContactConstraint& c, SolverBody& a, SolverBody& b, Real threshold) {
-  for (int i = 0; i < c.pointCount; ++i) {
-    ConstraintPoint& p = c.points[static_cast<std::size_t>(i)];
-    if (p.relativeVelocity > -threshold || p.maxNormalImpulse == 0) continue;
-    const Real vn = rowVelocity(a, b, c.normal, p.rnA, p.rnB);
-    Real impulse = -p.normalMass * (vn + c.restitution * p.relativeVelocity);
-    const Real updated = std::max(p.normalImpulse + impulse, Real(0));
-    impulse = updated - p.normalImpulse;
-    p.normalImpulse = updated;
-    p.maxNormalImpulse = std::max(p.maxNormalImpulse, impulse);
-    applyRow(a, b, c.normal, p.wnA, p.wnB, impulse);
-  }
-}
-
-// Runs `kernel(c, a, b)` on every constraint: the bodies as references into `bodies`, or, for
-// a static or kinematic side (inverse mass 0), a private copy that the kernel may write to
-// harmlessly, so that constraints sharing only such a body can run at the same time.
-template <class Kernel>
-void runOne(ContactConstraint& c, std::vector<SolverBody>& bodies, Kernel& kernel) {
-  // Per thread and filled only for a fixed side: constructing two bodies per constraint and
-  // pass cost more than a friction row.
-  thread_local SolverBody fixedA, fixedB;
-  auto side = [&](int i, SolverBody& fixed) -> SolverBody& {
-    if (i < 0) {
-      fixed = kStatic;
-      return fixed;
-    }
-    SolverBody& body = bodies[static_cast<std::size_t>(i)];
-    if (body.invMass > 0) return body;
-    fixed = body;
-    return fixed;
-  };
-  kernel(c, side(c.bodyA, fixedA), side(c.bodyB, fixedB));
-}
-
-// Constraints in colour order; the constraints of one colour share no moving body, so they
-// run in parallel on the arena with the same result as in sequence. The overflow group, whose
-// constraints may share bodies, runs in sequence.
-template <class Kernel>
-void runColored(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
-                const ConstraintColoring& coloring, tbb::task_arena* arena, Kernel kernel) {
-  const std::size_t groups = coloring.offsets.empty() ? 0 : coloring.offsets.size() - 1;
-  for (std::size_t g = 0; g < groups; ++g) {
-    const std::uint32_t begin = coloring.offsets[g], end = coloring.offsets[g + 1];
-    auto range = [&](std::uint32_t from, std::uint32_t to) {
-      for (std::uint32_t k = from; k < to; ++k) runOne(cs[coloring.order[k]], bodies, kernel);
-    };
-    const bool overflow = g + 1 == groups && coloring.overflow;
-    if (arena && !overflow && end - begin >= 2 * kColorGrain) {
-      arena->execute([&] {
-        tbb::parallel_for(tbb::blocked_range<std::uint32_t>(begin, end, kColorGrain),
-                          [&](const tbb::blocked_range<std::uint32_t>& r) {
-                            range(r.begin(), r.end());
-                          });
-      });
-    } else {
-      range(begin, end);
-    }
-  }
-}
-
-ConstraintColoring identityColoring(std::size_t count) {
-  ConstraintColoring c;
-  c.order.resize(count);
-  std::iota(c.order.begin(), c.order.end(), 0u);
-  c.offsets = {0, static_cast<std::uint32_t>(count)};
-  c.overflow = true;
-  return c;
-}
-
-}  // namespace
-
 void colorConstraints(const std::vector<ContactConstraint>& cs,
                       const std::vector<SolverBody>& bodies, ConstraintColoring& out) {
   // Greedy, in constraint order (Box2D v3): each constraint takes the first colour in which
@@ -316,39 +98,306 @@ void colorConstraints(const std::vector<ContactConstraint>& cs,
     out.order[next[std::size_t(color[k])]++] = static_cast<std::uint32_t>(k);
 }
 
-void warmStart(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
-               const ConstraintColoring& coloring, tbb::task_arena* arena) {
-  runColored(cs, bodies, coloring, arena,
-             [](ContactConstraint& c, SolverBody& a, SolverBody& b) { warmStartOne(c, a, b); });
+
+// The kernels, once per instruction set (contact_kernels.inl).
+namespace sse2 {
+#define INERTIA_PACK_BYTES 16
+#include "contact_kernels.inl"
+#undef INERTIA_PACK_BYTES
+}  // namespace sse2
+
+#ifdef INERTIA_HAVE_AVX2_KERNELS
+#pragma GCC push_options
+#pragma GCC target("avx2")
+namespace avx2 {
+#define INERTIA_PACK_BYTES 32
+#include "contact_kernels.inl"
+#undef INERTIA_PACK_BYTES
+}  // namespace avx2
+#pragma GCC pop_options
+#endif
+
+namespace {
+
+struct Kernels {
+  void (*warmStart)(const WideConstraint*, std::size_t, SolverBody*);
+  void (*solve)(WideConstraint*, std::size_t, SolverBody*, const BiasMode&);
+  void (*updateApproach)(WideConstraint*, std::size_t, const SolverBody*);
+  void (*restitution)(WideConstraint*, std::size_t, SolverBody*, Real);
+};
+
+constexpr Kernels kSse2{sse2::warmStartRange, sse2::solveRange, sse2::updateApproachRange,
+                        sse2::restitutionRange};
+#ifdef INERTIA_HAVE_AVX2_KERNELS
+constexpr Kernels kAvx2{avx2::warmStartRange, avx2::solveRange, avx2::updateApproachRange,
+                        avx2::restitutionRange};
+#endif
+
+SimdLevel& currentLevel() {
+  static SimdLevel level = bestSimdLevel();
+  return level;
 }
 
-void solve(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
-           const BiasMode& mode, const ConstraintColoring& coloring, tbb::task_arena* arena) {
-  runColored(cs, bodies, coloring, arena, [&mode](ContactConstraint& c, SolverBody& a,
-                                                  SolverBody& b) { solveOne(c, a, b, mode); });
+const Kernels& kernels() {
+#ifdef INERTIA_HAVE_AVX2_KERNELS
+  if (currentLevel() == SimdLevel::Avx2) return kAvx2;
+#endif
+  return kSse2;
 }
 
-void applyRestitution(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
-                      Real threshold, const ConstraintColoring& coloring,
-                      tbb::task_arena* arena) {
-  runColored(cs, bodies, coloring, arena,
-             [threshold](ContactConstraint& c, SolverBody& a, SolverBody& b) {
-               if (c.restitution != 0) restitutionOne(c, a, b, threshold);
-             });
+// Runs `pass(first, count)` over the bundles colour by colour; a colour's bundles share no
+// moving body, so they run in parallel on the arena with the same result as in sequence. The
+// overflow group, whose bundles may share bodies, runs in sequence.
+template <class Pass>
+void runGroups(const std::vector<std::uint32_t>& offsets, bool overflow, tbb::task_arena* arena,
+               Pass pass) {
+  constexpr std::uint32_t grain = std::max<std::uint32_t>(1, kColorGrain / kLanes);
+  const std::size_t groups = offsets.empty() ? 0 : offsets.size() - 1;
+  for (std::size_t g = 0; g < groups; ++g) {
+    const std::uint32_t begin = offsets[g], end = offsets[g + 1];
+    const bool sequential = g + 1 == groups && overflow;
+    if (arena && !sequential && end - begin >= 2 * grain) {
+      arena->execute([&] {
+        tbb::parallel_for(tbb::blocked_range<std::uint32_t>(begin, end, grain),
+                          [&](const tbb::blocked_range<std::uint32_t>& r) {
+                            pass(r.begin(), r.size());
+                          });
+      });
+    } else {
+      pass(begin, std::size_t(end - begin));
+    }
+  }
 }
+
+// Every constraint alone, in the order of `cs`.
+ConstraintColoring sequentialColoring(std::size_t count) {
+  ConstraintColoring c;
+  c.order.resize(count);
+  std::iota(c.order.begin(), c.order.end(), 0u);
+  c.offsets = {0, static_cast<std::uint32_t>(count)};
+  c.overflow = true;
+  return c;
+}
+
+void put3(WideReal (&w)[3], int lane, const Vec3& v) {
+  for (int k = 0; k < 3; ++k) w[k].lane[lane] = v[k];
+}
+Vec3 get3(const WideReal (&w)[3], int lane) {
+  return {w[0].lane[lane], w[1].lane[lane], w[2].lane[lane]};
+}
+
+// Lane `l` of `w` from constraint `c`; the rest of `w` is zero.
+void packLane(WideConstraint& w, int l, const ContactConstraint& c,
+              const std::vector<SolverBody>& bodies) {
+  const SolverBody none{};
+  const SolverBody& a = c.bodyA >= 0 ? bodies[std::size_t(c.bodyA)] : none;
+  const SolverBody& b = c.bodyB >= 0 ? bodies[std::size_t(c.bodyB)] : none;
+  w.bodyA[std::size_t(l)] = c.bodyA;
+  w.bodyB[std::size_t(l)] = c.bodyB;
+  if (a.invMass > 0) w.writeA |= 1u << l;
+  if (b.invMass > 0) w.writeB |= 1u << l;
+  w.pointCount = std::max(w.pointCount, c.pointCount);
+  w.invMassA.lane[l] = a.invMass;
+  w.invMassB.lane[l] = b.invMass;
+  put3(w.normal, l, c.normal);
+  for (std::size_t k = 0; k < 2; ++k) put3(w.tangent[k], l, c.tangent[k]);
+  w.friction.lane[l] = c.friction;
+  w.restitution.lane[l] = c.restitution;
+  w.bouncy = w.bouncy || c.restitution != 0;
+  w.biasRate.lane[l] = c.softness.biasRate;
+  w.massScale.lane[l] = c.softness.massScale;
+  w.impulseScale.lane[l] = c.softness.impulseScale;
+  if (c.rolling > 0 || c.spinning > 0) {
+    w.angular = true;
+    w.rolling.lane[l] = c.rolling;
+    w.spinning.lane[l] = c.spinning;
+    for (std::size_t k = 0; k < 2; ++k) {
+      w.rollingMass[k].lane[l] = c.rollingMass[k];
+      w.rollingImpulse[k].lane[l] = c.rollingImpulse[k];
+      put3(w.iaT[k], l, a.invInertia * c.tangent[k]);
+      put3(w.ibT[k], l, b.invInertia * c.tangent[k]);
+    }
+    w.spinningMass.lane[l] = c.spinningMass;
+    w.spinningImpulse.lane[l] = c.spinningImpulse;
+    put3(w.iaN, l, a.invInertia * c.normal);
+    put3(w.ibN, l, b.invInertia * c.normal);
+  }
+  for (int i = 0; i < c.pointCount; ++i) {
+    const ConstraintPoint& p = c.points[std::size_t(i)];
+    WidePoint& q = w.points[std::size_t(i)];
+    put3(q.rA, l, p.rA);
+    put3(q.rB, l, p.rB);
+    q.adjustedSeparation.lane[l] = p.adjustedSeparation;
+    q.normalMass.lane[l] = p.normalMass;
+    q.normalImpulse.lane[l] = p.normalImpulse;
+    q.maxNormalImpulse.lane[l] = p.maxNormalImpulse;
+    q.relativeVelocity.lane[l] = p.relativeVelocity;
+    put3(q.rnA, l, p.rnA);
+    put3(q.rnB, l, p.rnB);
+    put3(q.wnA, l, p.wnA);
+    put3(q.wnB, l, p.wnB);
+    for (std::size_t k = 0; k < 2; ++k) {
+      q.tangentMass[k].lane[l] = p.tangentMass[k];
+      q.tangentImpulse[k].lane[l] = p.tangentImpulse[k];
+      put3(q.rtA[k], l, p.rtA[k]);
+      put3(q.rtB[k], l, p.rtB[k]);
+      put3(q.wtA[k], l, p.wtA[k]);
+      put3(q.wtB[k], l, p.wtB[k]);
+    }
+  }
+}
+
+}  // namespace
+
+SimdLevel bestSimdLevel() {
+#ifdef INERTIA_HAVE_AVX2_KERNELS
+  if (__builtin_cpu_supports("avx2")) return SimdLevel::Avx2;
+#endif
+  return SimdLevel::Sse2;
+}
+
+SimdLevel simdLevel() { return currentLevel(); }
+
+void setSimdLevel(SimdLevel level) {
+  currentLevel() = level == SimdLevel::Avx2 ? bestSimdLevel() : SimdLevel::Sse2;
+}
+
+void ContactBundles::build(const std::vector<ContactConstraint>& cs,
+                           const std::vector<SolverBody>& bodies,
+                           const ConstraintColoring& coloring) {
+  const std::size_t groups = coloring.offsets.empty() ? 0 : coloring.offsets.size() - 1;
+  overflow_ = coloring.overflow;
+  groupOffsets_.assign(1, 0);
+  // Bundle counts first, so the bundles are made in place, zeroed.
+  std::size_t total = 0;
+  for (std::size_t g = 0; g < groups; ++g) {
+    const std::size_t n = coloring.offsets[g + 1] - coloring.offsets[g];
+    const bool sequential = g + 1 == groups && overflow_;
+    total += sequential ? n : (n + kLanes - 1) / kLanes;
+  }
+  bundles_.assign(total, WideConstraint{});
+  std::vector<std::uint32_t> members;
+  std::size_t next = 0;
+  for (std::size_t g = 0; g < groups; ++g) {
+    const bool sequential = g + 1 == groups && overflow_;
+    members.assign(coloring.order.begin() + coloring.offsets[g],
+                   coloring.order.begin() + coloring.offsets[g + 1]);
+    // Lanes of a bundle run as many points as its fullest lane: bundle like with like. The
+    // order within a colour does not change the result.
+    if (!sequential)
+      std::stable_sort(members.begin(), members.end(), [&](std::uint32_t x, std::uint32_t y) {
+        return cs[x].pointCount > cs[y].pointCount;
+      });
+    const std::size_t per = sequential ? 1 : std::size_t(kLanes);
+    for (std::size_t first = 0; first < members.size(); first += per) {
+      WideConstraint& w = bundles_[next++];
+      w.bodyA.fill(-1);
+      w.bodyB.fill(-1);
+      w.lanes = int(std::min(per, members.size() - first));
+      for (int l = 0; l < w.lanes; ++l) {
+        const std::uint32_t k = members[first + std::size_t(l)];
+        w.source[std::size_t(l)] = k;
+        packLane(w, l, cs[k], bodies);
+      }
+    }
+    groupOffsets_.push_back(static_cast<std::uint32_t>(next));
+  }
+  updateMotion(bodies);
+}
+
+void ContactBundles::updateMotion(const std::vector<SolverBody>& bodies) {
+  const SolverBody none{};
+  for (WideConstraint& w : bundles_) {
+    for (int l = 0; l < w.lanes; ++l) {
+      const int ia = w.bodyA[std::size_t(l)], ib = w.bodyB[std::size_t(l)];
+      const SolverBody& a = ia >= 0 ? bodies[std::size_t(ia)] : none;
+      const SolverBody& b = ib >= 0 ? bodies[std::size_t(ib)] : none;
+      const Vec3 n = get3(w.normal, l);
+      put3(w.movedA, l, a.dR.transpose() * n);
+      put3(w.movedB, l, b.dR.transpose() * n);
+      w.offset.lane[l] = n.dot(b.dp - a.dp);
+    }
+  }
+}
+
+void ContactBundles::warmStart(std::vector<SolverBody>& bodies, tbb::task_arena* arena) const {
+  const Kernels& k = kernels();
+  runGroups(groupOffsets_, overflow_, arena, [&](std::uint32_t first, std::size_t count) {
+    k.warmStart(bundles_.data() + first, count, bodies.data());
+  });
+}
+
+void ContactBundles::solve(std::vector<SolverBody>& bodies, const BiasMode& mode,
+                           tbb::task_arena* arena) {
+  const Kernels& k = kernels();
+  runGroups(groupOffsets_, overflow_, arena, [&](std::uint32_t first, std::size_t count) {
+    k.solve(bundles_.data() + first, count, bodies.data(), mode);
+  });
+}
+
+void ContactBundles::updateApproach(const std::vector<SolverBody>& bodies) {
+  kernels().updateApproach(bundles_.data(), bundles_.size(), bodies.data());
+}
+
+void ContactBundles::applyRestitution(std::vector<SolverBody>& bodies, Real threshold,
+                                      tbb::task_arena* arena) {
+  const Kernels& k = kernels();
+  runGroups(groupOffsets_, overflow_, arena, [&](std::uint32_t first, std::size_t count) {
+    k.restitution(bundles_.data() + first, count, bodies.data(), threshold);
+  });
+}
+
+void ContactBundles::store(std::vector<ContactConstraint>& cs) const {
+  for (const WideConstraint& w : bundles_) {
+    for (int l = 0; l < w.lanes; ++l) {
+      ContactConstraint& c = cs[w.source[std::size_t(l)]];
+      for (int i = 0; i < c.pointCount; ++i) {
+        ConstraintPoint& p = c.points[std::size_t(i)];
+        const WidePoint& q = w.points[std::size_t(i)];
+        p.normalImpulse = q.normalImpulse.lane[l];
+        p.maxNormalImpulse = q.maxNormalImpulse.lane[l];
+        p.relativeVelocity = q.relativeVelocity.lane[l];
+        for (std::size_t k = 0; k < 2; ++k) p.tangentImpulse[k] = q.tangentImpulse[k].lane[l];
+      }
+      if (c.rolling > 0 || c.spinning > 0) {
+        for (std::size_t k = 0; k < 2; ++k) c.rollingImpulse[k] = w.rollingImpulse[k].lane[l];
+        c.spinningImpulse = w.spinningImpulse.lane[l];
+      }
+    }
+  }
+}
+
+namespace {
+
+// Packs `cs` one constraint per bundle, runs `pass`, and stores the impulses back.
+template <class Pass>
+void runSequential(std::vector<ContactConstraint>& cs, const std::vector<SolverBody>& bodies,
+                   Pass pass) {
+  ContactBundles bundles;
+  bundles.build(cs, bodies, sequentialColoring(cs.size()));
+  pass(bundles);
+  bundles.store(cs);
+}
+
+}  // namespace
 
 void warmStart(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies) {
-  warmStart(cs, bodies, identityColoring(cs.size()), nullptr);
+  runSequential(cs, bodies, [&](ContactBundles& b) { b.warmStart(bodies, nullptr); });
 }
 
 void solve(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
            const BiasMode& mode) {
-  solve(cs, bodies, mode, identityColoring(cs.size()), nullptr);
+  runSequential(cs, bodies, [&](ContactBundles& b) { b.solve(bodies, mode, nullptr); });
+}
+
+void updateApproach(std::vector<ContactConstraint>& cs, const std::vector<SolverBody>& bodies) {
+  runSequential(cs, bodies, [&](ContactBundles& b) { b.updateApproach(bodies); });
 }
 
 void applyRestitution(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
                       Real threshold) {
-  applyRestitution(cs, bodies, threshold, identityColoring(cs.size()), nullptr);
+  runSequential(cs, bodies,
+                [&](ContactBundles& b) { b.applyRestitution(bodies, threshold, nullptr); });
 }
 
 }  // namespace inertia::detail

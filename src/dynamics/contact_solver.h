@@ -110,13 +110,6 @@ struct ConstraintColoring {
 void colorConstraints(const std::vector<ContactConstraint>& cs,
                       const std::vector<SolverBody>& bodies, ConstraintColoring& out);
 
-/// Applies the accumulated impulses of every constraint to its bodies.
-void warmStart(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies);
-/// The same, colour by colour, in parallel on `arena` when given (the result does not depend on
-/// it). Likewise the coloured overloads of solve() and applyRestitution() below.
-void warmStart(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
-               const ConstraintColoring& coloring, tbb::task_arena* arena);
-
 /// How a solve pass treats position error.
 struct BiasMode {
   bool soft = true;        ///< Soft step rows (else rigid with Baumgarte).
@@ -127,23 +120,108 @@ struct BiasMode {
   Real linearSlop = Real(0.005);
 };
 
-/// One Gauss-Seidel pass over every constraint, in order.
+/// Constraints per bundle: one AVX register of Real (8 floats or 4 doubles).
+inline constexpr int kLanes = int(32 / sizeof(Real));
+
+/// kLanes values, one per constraint of a bundle.
+struct alignas(32) WideReal {
+  Real lane[kLanes];
+};
+
+/// The rows of one contact point of each constraint of a bundle (the fields of
+/// ConstraintPoint, lane by lane).
+struct WidePoint {
+  WideReal rA[3], rB[3];
+  WideReal adjustedSeparation, normalMass, tangentMass[2];
+  WideReal normalImpulse, tangentImpulse[2], maxNormalImpulse, relativeVelocity;
+  WideReal rnA[3], rnB[3], wnA[3], wnB[3];
+  WideReal rtA[2][3], rtB[2][3], wtA[2][3], wtB[2][3];
+};
+
+/// kLanes constraints that share no moving body, solved together lane by lane (Box2D v3's
+/// wide solver, in 3D). Lanes without a constraint, and points beyond a lane's own count, have
+/// zero masses: they compute impulses of zero.
+struct WideConstraint {
+  std::array<int, kLanes> bodyA{};  ///< Solver body, -1 for a static body or an empty lane.
+  std::array<int, kLanes> bodyB{};
+  std::uint32_t writeA = 0;         ///< Bit l: lane l's body A takes impulses (moving).
+  std::uint32_t writeB = 0;
+  std::array<std::uint32_t, kLanes> source{};  ///< The lanes' constraints (index into cs).
+  int lanes = 0;                    ///< Lanes in use, from lane 0.
+  int pointCount = 0;               ///< The most points of any lane.
+  bool angular = false;             ///< Some lane has rolling or spinning friction.
+  bool bouncy = false;              ///< Some lane has restitution.
+  WideReal normal[3], tangent[2][3];
+  WideReal invMassA, invMassB;
+  WideReal friction, restitution, rolling, spinning;
+  WideReal rollingMass[2], rollingImpulse[2], spinningMass, spinningImpulse;
+  WideReal biasRate, massScale, impulseScale;
+  // The normal in the frames of A's and B's motion since the step's start, and
+  // n . (dpB - dpA): a point's current separation is offset + movedB . rB - movedA . rA +
+  // adjustedSeparation. Refreshed after each position update (ContactBundles::updateMotion).
+  WideReal movedA[3], movedB[3], offset;
+  // Images of the tangents and the normal under the inverse inertias, for the rolling and
+  // spinning rows (only when `angular`).
+  WideReal iaT[2][3], iaN[3], ibT[2][3], ibN[3];
+  std::array<WidePoint, 4> points{};
+};
+
+/// The contact constraints of a step packed into bundles colour by colour: the bundles of a
+/// colour share no moving body, so they run in parallel on an arena with the same result as
+/// in sequence, and the kLanes constraints of a bundle run in the lanes of SIMD registers
+/// (AVX2 when the processor has it, else SSE2; the two give the same bits). The overflow
+/// colour is packed one constraint per bundle and runs in sequence. A lane computes exactly
+/// what the constraint would alone, so the result is independent of the packing, the
+/// instruction set and the thread count.
+class ContactBundles {
+ public:
+  /// Packs `cs` (masses computed) in the order of `coloring`, and takes the bodies' motion
+  /// since the step's start as updateMotion() does.
+  void build(const std::vector<ContactConstraint>& cs, const std::vector<SolverBody>& bodies,
+             const ConstraintColoring& coloring);
+  /// Refreshes the moved normals from the bodies' dp and dR: after each position update.
+  void updateMotion(const std::vector<SolverBody>& bodies);
+
+  /// Applies the accumulated impulses of every constraint to its bodies.
+  void warmStart(std::vector<SolverBody>& bodies, tbb::task_arena* arena) const;
+  /// One Gauss-Seidel pass over every constraint.
+  void solve(std::vector<SolverBody>& bodies, const BiasMode& mode, tbb::task_arena* arena);
+  /// Before a substep's iterations: points whose gap is still open take the current normal
+  /// velocity as their approach speed, so restitution uses the speed at impact rather than at
+  /// the step's start (which lags by up to g dt). Only constraints with restitution.
+  void updateApproach(const std::vector<SolverBody>& bodies);
+  /// Newton's impact law after the substeps: points that approached faster than `threshold`
+  /// (m/s) and carried an impulse leave with restitution times their approach speed.
+  void applyRestitution(std::vector<SolverBody>& bodies, Real threshold,
+                        tbb::task_arena* arena);
+
+  /// Writes the impulses, approach speeds and largest impulses back into `cs`.
+  void store(std::vector<ContactConstraint>& cs) const;
+
+  const std::vector<WideConstraint>& bundles() const { return bundles_; }
+
+ private:
+  std::vector<WideConstraint> bundles_;
+  std::vector<std::uint32_t> groupOffsets_;  ///< Colour g is bundles_[offsets[g], offsets[g + 1]).
+  bool overflow_ = false;                    ///< The last group runs in sequence.
+};
+
+/// The instruction sets of the bundle kernels.
+enum class SimdLevel { Sse2, Avx2 };
+/// The best the processor has (Sse2 off x86, where the kernels use GCC's generic vectors).
+SimdLevel bestSimdLevel();
+/// The level the kernels use: bestSimdLevel() unless a test lowered it (not thread-safe: for
+/// tests).
+SimdLevel simdLevel();
+void setSimdLevel(SimdLevel level);
+
+// The same passes on constraints one at a time in the order of `cs` (for the LCP solvers'
+// fallback and for tests): each packs `cs` one constraint per bundle, runs, and stores back.
+void warmStart(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies);
 void solve(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
            const BiasMode& mode);
-void solve(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
-           const BiasMode& mode, const ConstraintColoring& coloring, tbb::task_arena* arena);
-
-/// Before a substep's iterations: points whose gap is still open take the current normal
-/// velocity as their approach speed, so restitution uses the speed at impact rather than at
-/// the step's start (which lags by up to g dt). Only constraints with restitution.
 void updateApproach(std::vector<ContactConstraint>& cs, const std::vector<SolverBody>& bodies);
-
-/// Newton's impact law after the substeps: points that approached faster than `threshold`
-/// (m/s) and carried an impulse leave with restitution times their approach speed.
 void applyRestitution(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
                       Real threshold);
-void applyRestitution(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
-                      Real threshold, const ConstraintColoring& coloring,
-                      tbb::task_arena* arena);
 
 }  // namespace inertia::detail

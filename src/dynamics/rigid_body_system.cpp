@@ -227,6 +227,7 @@ struct RigidBodySystem::Data {
   std::vector<SolverBody> solverBodies;
   std::vector<NarrowChunk> chunks;
   detail::ConstraintColoring coloring;
+  detail::ContactBundles bundles;
   std::vector<int> solverIndex;     // per body slot, -1 when not in the solver
   std::vector<std::uint32_t> solverToBody;
   std::vector<Quat> startRotation;  // per solver body
@@ -988,6 +989,7 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
     return D.solverIndex[bi];
   };
   D.constraints.clear();
+  const bool lcp = s.solver.type == SolverType::LcpDantzig || s.solver.type == SolverType::LcpLemke;
   const Real h = dt / Real(s.substeps);
   const Real hertz = std::min(tuning.hertz, Real(0.25) / h);
   const detail::Softness soft = detail::makeSoft(hertz, tuning.dampingRatio, h);
@@ -1057,13 +1059,15 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
     const SolverBody& b = c.bodyB >= 0 ? D.solverBodies[static_cast<std::size_t>(c.bodyB)] : none;
     detail::computeMasses(c, a, b);
   }
-  detail::colorConstraints(D.constraints, D.solverBodies, D.coloring);
+  if (!lcp) {
+    detail::colorConstraints(D.constraints, D.solverBodies, D.coloring);
+    D.bundles.build(D.constraints, D.solverBodies, D.coloring);
+  }
   auto t3 = Clock::now();
   D.times.narrowPhase += std::chrono::duration<double>(t3 - t2).count();
 
   // 5. Substeps.
   const bool softStep = s.solver.type == SolverType::SoftStep;
-  const bool lcp = s.solver.type == SolverType::LcpDantzig || s.solver.type == SolverType::LcpLemke;
   const detail::LcpMethod lcpMethod = s.solver.type == SolverType::LcpLemke
                                           ? detail::LcpMethod::Lemke
                                           : detail::LcpMethod::Dantzig;
@@ -1095,15 +1099,16 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
       sb.w *= 1 / (1 + h * b.angularDamping);
     }
     integrationTime += std::chrono::duration<double>(Clock::now() - ti).count();
-    detail::updateApproach(D.constraints, D.solverBodies);
     if (lcp) {
       // Direct LCP per island in place of the iterations (lcp_contact.h).
+      detail::updateApproach(D.constraints, D.solverBodies);
       detail::solveContactsLcp(D.constraints, D.solverBodies, mode, lcpMethod,
                                s.solver.iterations);
     } else {
-      detail::warmStart(D.constraints, D.solverBodies, D.coloring, arena);
+      D.bundles.updateApproach(D.solverBodies);
+      D.bundles.warmStart(D.solverBodies, arena);
       for (int it = 0; it < s.solver.iterations; ++it)
-        detail::solve(D.constraints, D.solverBodies, mode, D.coloring, arena);
+        D.bundles.solve(D.solverBodies, mode, arena);
     }
     ti = Clock::now();
     for (std::size_t k = 0; k < D.solverBodies.size(); ++k) {
@@ -1118,13 +1123,18 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
       sb.dR = sb.dq.toRotationMatrix();
     }
     integrationTime += std::chrono::duration<double>(Clock::now() - ti).count();
+    if (!lcp) D.bundles.updateMotion(D.solverBodies);
     if (softStep) {
       for (int it = 0; it < s.solver.relaxIterations; ++it)
-        detail::solve(D.constraints, D.solverBodies, relax, D.coloring, arena);
+        D.bundles.solve(D.solverBodies, relax, arena);
     }
   }
-  detail::applyRestitution(D.constraints, D.solverBodies, tuning.restitutionThreshold,
-                           D.coloring, arena);
+  if (lcp) {
+    detail::applyRestitution(D.constraints, D.solverBodies, tuning.restitutionThreshold);
+  } else {
+    D.bundles.applyRestitution(D.solverBodies, tuning.restitutionThreshold, arena);
+    D.bundles.store(D.constraints);
+  }
 
   // Store the impulses for the next step's warm start and for the user.
   for (const ContactConstraint& c : D.constraints) {

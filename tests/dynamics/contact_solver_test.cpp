@@ -153,21 +153,31 @@ TEST(ContactSolver, RestitutionReversesTheApproachSpeed) {
 
 namespace {
 // A random contact graph: `count` constraints between `bodyCount` bodies (some static, some
-// kinematic with zero inverse mass), each with two points at random anchors.
+// kinematic with zero inverse mass), with 1 to 4 points at random anchors, some with
+// restitution, rolling or spinning friction, random accumulated impulses, and bodies that have
+// moved since the step's start.
 void randomGraph(std::mt19937_64& rng, int bodyCount, int count, std::vector<SolverBody>& bodies,
                  std::vector<ContactConstraint>& cs) {
   std::uniform_real_distribution<double> u(-1, 1);
   std::uniform_int_distribution<int> pick(-1, bodyCount - 1);
+  std::uniform_int_distribution<int> points(1, 4);
+  auto r = [&] { return Real(u(rng)); };
+  auto vec = [&] { return Vec3(r(), r(), r()); };
   bodies.clear();
   for (int i = 0; i < bodyCount; ++i) {
-    SolverBody b = body(Vec3(Real(u(rng)), Real(u(rng)), Real(u(rng))));
-    b.w = Vec3(Real(u(rng)), Real(u(rng)), Real(u(rng)));
+    SolverBody b = body(vec());
+    b.w = vec();
+    b.invInertia = Vec3(6 + r(), 6 + r(), 6 + r()).asDiagonal();
+    b.dp = Real(0.01) * vec();
+    b.dq = Quat(1, Real(0.01) * r(), Real(0.01) * r(), Real(0.01) * r()).normalized();
+    b.dR = b.dq.toRotationMatrix();
     if (i % 10 == 9) {  // kinematic: moves, but takes no impulse
       b.invMass = 0;
       b.invInertia.setZero();
     }
     bodies.push_back(b);
   }
+  const Softness soft = makeSoft(30, 10, Real(1.0 / 240.0));
   cs.clear();
   while (int(cs.size()) < count) {
     ContactConstraint c;
@@ -175,17 +185,27 @@ void randomGraph(std::mt19937_64& rng, int bodyCount, int count, std::vector<Sol
     c.bodyB = pick(rng);
     auto moving = [&](int i) { return i >= 0 && bodies[std::size_t(i)].invMass > 0; };
     if (c.bodyA == c.bodyB || (!moving(c.bodyA) && !moving(c.bodyB))) continue;
-    c.normal = Vec3(Real(u(rng)), Real(u(rng)), Real(u(rng))).normalized();
+    c.normal = vec().normalized();
     c.tangent = tangentBasis(c.normal);
-    c.pointCount = 2;
-    for (int k = 0; k < 2; ++k) {
+    c.pointCount = points(rng);
+    for (int k = 0; k < c.pointCount; ++k) {
       ConstraintPoint& p = c.points[std::size_t(k)];
-      p.rA = Vec3(Real(u(rng)), Real(u(rng)), Real(u(rng))) * Real(0.5);
-      p.rB = Vec3(Real(u(rng)), Real(u(rng)), Real(u(rng))) * Real(0.5);
+      p.rA = vec() * Real(0.5);
+      p.rB = vec() * Real(0.5);
       p.adjustedSeparation = Real(0.01 * u(rng)) - (p.rB - p.rA).dot(c.normal);
+      p.normalImpulse = Real(0.1) * std::abs(r());
+      p.tangentImpulse = {Real(0.02) * r(), Real(0.02) * r()};
+      p.relativeVelocity = -2 * std::abs(r());
     }
     c.friction = Real(0.5);
-    c.restitution = Real(0.3);
+    c.restitution = cs.size() % 3 == 0 ? Real(0.3) : Real(0);
+    if (cs.size() % 5 == 0) {
+      c.rolling = Real(0.02);
+      c.spinning = Real(0.01);
+      c.rollingImpulse = {Real(0.001) * r(), Real(0.001) * r()};
+      c.spinningImpulse = Real(0.001) * r();
+    }
+    c.softness = soft;
     const SolverBody none{};
     computeMasses(c, c.bodyA >= 0 ? bodies[std::size_t(c.bodyA)] : none,
                   c.bodyB >= 0 ? bodies[std::size_t(c.bodyB)] : none);
@@ -239,12 +259,13 @@ TEST(ContactSolver, ColoredPassesAreIndependentOfThreads) {
   colorConstraints(cs0, start, col);
   auto run = [&](tbb::task_arena* arena) {
     std::vector<SolverBody> bodies = start;
-    std::vector<ContactConstraint> cs = cs0;
+    ContactBundles bundles;
+    bundles.build(cs0, bodies, col);
     BiasMode mode;
     mode.invH = 240;
-    warmStart(cs, bodies, col, arena);
-    for (int it = 0; it < 3; ++it) solve(cs, bodies, mode, col, arena);
-    applyRestitution(cs, bodies, Real(0.1), col, arena);
+    bundles.warmStart(bodies, arena);
+    for (int it = 0; it < 3; ++it) bundles.solve(bodies, mode, arena);
+    bundles.applyRestitution(bodies, Real(0.1), arena);
     return bodies;
   };
   tbb::task_arena one(1), four(4);
@@ -260,4 +281,115 @@ TEST(ContactSolver, ColoredPassesAreIndependentOfThreads) {
   bool changed = false;
   for (std::size_t i = 0; i < a.size(); ++i) changed = changed || a[i].v != start[i].v;
   EXPECT_TRUE(changed);
+}
+
+namespace {
+// Bundled passes as a step makes them: warm start, soft iterations, a position update, a
+// relax pass, restitution. Returns the bodies; the impulses are stored into `cs`.
+std::vector<SolverBody> bundledPasses(std::vector<ContactConstraint>& cs,
+                                      std::vector<SolverBody> bodies,
+                                      const ConstraintColoring& col, tbb::task_arena* arena) {
+  ContactBundles bundles;
+  bundles.build(cs, bodies, col);
+  BiasMode mode;
+  mode.invH = 240;
+  BiasMode relax = mode;
+  relax.useBias = false;
+  bundles.updateApproach(bodies);
+  bundles.warmStart(bodies, arena);
+  for (int it = 0; it < 3; ++it) bundles.solve(bodies, mode, arena);
+  for (SolverBody& b : bodies) b.dp += b.v / 240;
+  bundles.updateMotion(bodies);
+  bundles.solve(bodies, relax, arena);
+  bundles.applyRestitution(bodies, Real(0.1), arena);
+  bundles.store(cs);
+  return bodies;
+}
+
+void expectSameBits(const std::vector<SolverBody>& a, const std::vector<SolverBody>& b,
+                    const std::vector<ContactConstraint>& ca,
+                    const std::vector<ContactConstraint>& cb) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].v, b[i].v) << "body " << i;
+    EXPECT_EQ(a[i].w, b[i].w) << "body " << i;
+  }
+  for (std::size_t k = 0; k < ca.size(); ++k) {
+    for (int i = 0; i < ca[k].pointCount; ++i) {
+      const ConstraintPoint &p = ca[k].points[std::size_t(i)], &q = cb[k].points[std::size_t(i)];
+      EXPECT_EQ(p.normalImpulse, q.normalImpulse) << "constraint " << k;
+      EXPECT_EQ(p.tangentImpulse, q.tangentImpulse) << "constraint " << k;
+      EXPECT_EQ(p.maxNormalImpulse, q.maxNormalImpulse) << "constraint " << k;
+      EXPECT_EQ(p.relativeVelocity, q.relativeVelocity) << "constraint " << k;
+    }
+    EXPECT_EQ(ca[k].rollingImpulse, cb[k].rollingImpulse) << "constraint " << k;
+    EXPECT_EQ(ca[k].spinningImpulse, cb[k].spinningImpulse) << "constraint " << k;
+  }
+}
+}  // namespace
+
+// A lane computes what its constraint computes alone: the coloured bundles of kLanes give the
+// bits of the same passes run one constraint at a time in colour order (mixed point counts,
+// static and kinematic bodies, restitution, rolling and spinning friction in some lanes). A
+// lane reading or writing another's body, or a padding lane pushing, would change them.
+TEST(ContactSolver, BundledLanesEqualConstraintsSolvedOneByOne) {
+  std::mt19937_64 rng(13);
+  std::vector<SolverBody> start;
+  std::vector<ContactConstraint> cs0;
+  randomGraph(rng, 300, 700, start, cs0);
+  ConstraintColoring col;
+  colorConstraints(cs0, start, col);
+  ASSERT_FALSE(col.overflow);
+
+  std::vector<ContactConstraint> bundled = cs0;
+  const std::vector<SolverBody> a = bundledPasses(bundled, start, col, nullptr);
+
+  // The same in sequence: cs in colour order, each pass one constraint at a time.
+  std::vector<ContactConstraint> seq;
+  for (std::uint32_t k : col.order) seq.push_back(cs0[k]);
+  std::vector<SolverBody> b = start;
+  BiasMode mode;
+  mode.invH = 240;
+  BiasMode relax = mode;
+  relax.useBias = false;
+  updateApproach(seq, b);
+  warmStart(seq, b);
+  for (int it = 0; it < 3; ++it) solve(seq, b, mode);
+  for (SolverBody& body : b) body.dp += body.v / 240;
+  solve(seq, b, relax);
+  applyRestitution(seq, b, Real(0.1));
+
+  std::vector<ContactConstraint> byIndex(cs0.size());
+  for (std::size_t i = 0; i < col.order.size(); ++i) byIndex[col.order[i]] = seq[i];
+  expectSameBits(a, b, bundled, byIndex);
+  // And the passes did something in every kind of row.
+  bool pushed = false, bounced = false, rolled = false;
+  for (const ContactConstraint& c : bundled) {
+    rolled = rolled || c.rollingImpulse[0] != 0;
+    for (int i = 0; i < c.pointCount; ++i) {
+      pushed = pushed || c.points[std::size_t(i)].maxNormalImpulse > 0;
+      bounced = bounced || (c.restitution > 0 && c.points[std::size_t(i)].normalImpulse > 0);
+    }
+  }
+  EXPECT_TRUE(pushed && bounced && rolled);
+}
+
+// The AVX2 kernels give the SSE2 kernels' bits (lane-wise IEEE arithmetic without fused
+// multiply-adds). On a processor without AVX2 both runs use SSE2.
+TEST(ContactSolver, Avx2AndSse2KernelsGiveTheSameBits) {
+  std::mt19937_64 rng(14);
+  std::vector<SolverBody> start;
+  std::vector<ContactConstraint> cs0;
+  randomGraph(rng, 300, 700, start, cs0);
+  ConstraintColoring col;
+  colorConstraints(cs0, start, col);
+  const SimdLevel best = bestSimdLevel();
+  std::vector<ContactConstraint> c1 = cs0, c2 = cs0;
+  setSimdLevel(SimdLevel::Sse2);
+  EXPECT_EQ(simdLevel(), SimdLevel::Sse2);
+  const std::vector<SolverBody> a = bundledPasses(c1, start, col, nullptr);
+  setSimdLevel(best);
+  EXPECT_EQ(simdLevel(), best);
+  const std::vector<SolverBody> b = bundledPasses(c2, start, col, nullptr);
+  expectSameBits(a, b, c1, c2);
 }

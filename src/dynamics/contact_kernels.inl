@@ -1,0 +1,370 @@
+// The contact solver's passes over bundles (contact_solver.h), written once for lanes of
+// SIMD registers. contact_solver.cpp includes this file once per instruction set, each time
+// in its own namespace and with INERTIA_PACK_BYTES set to the native vector width (16: SSE2,
+// 32: AVX2), so no inline function is shared between the two builds.
+//
+// Every operation is lane-wise IEEE arithmetic (the project compiles with -ffp-contract=off
+// and neither build enables FMA), so a lane computes the same bits in either build and in a
+// bundle of one constraint as in a full one.
+
+// GCC's generic vectors: one native register, and the integer vector its comparisons give.
+using Native = Real __attribute__((vector_size(INERTIA_PACK_BYTES)));
+using NativeMask = decltype(Native{} < Native{});
+inline constexpr int kPerNative = INERTIA_PACK_BYTES / int(sizeof(Real));
+inline constexpr int kNatives = kLanes / kPerNative;
+static_assert(kNatives * kPerNative == kLanes);
+
+inline Native nativeSqrt(Native x) {
+#if INERTIA_PACK_BYTES == 32 && defined(INERTIA_DOUBLE)
+  return Native(_mm256_sqrt_pd(__m256d(x)));
+#elif INERTIA_PACK_BYTES == 32
+  return Native(_mm256_sqrt_ps(__m256(x)));
+#elif defined(__SSE2__) && defined(INERTIA_DOUBLE)
+  return Native(_mm_sqrt_pd(__m128d(x)));
+#elif defined(__SSE2__)
+  return Native(_mm_sqrt_ps(__m128(x)));
+#else
+  for (int i = 0; i < kPerNative; ++i) x[i] = std::sqrt(x[i]);
+  return x;
+#endif
+}
+
+/// The kLanes values of a WideReal in registers.
+struct Pack {
+  Native n[kNatives];
+
+  static Pack load(const WideReal& w) {
+    Pack p;
+    std::memcpy(p.n, w.lane, sizeof p.n);
+    return p;
+  }
+  void store(WideReal& w) const { std::memcpy(w.lane, n, sizeof n); }
+  static Pack splat(Real x) {
+    Pack p;
+    for (Native& v : p.n) v = Native{} + x;
+    return p;
+  }
+  static Pack zero() { return splat(0); }
+};
+
+struct Mask {
+  NativeMask n[kNatives];
+};
+
+#define INERTIA_PACK_OP(op)                                              \
+  [[gnu::always_inline]] inline Pack operator op(Pack a, const Pack& b) { \
+    for (int i = 0; i < kNatives; ++i) a.n[i] = a.n[i] op b.n[i];         \
+    return a;                                                             \
+  }
+INERTIA_PACK_OP(+)
+INERTIA_PACK_OP(-)
+INERTIA_PACK_OP(*)
+INERTIA_PACK_OP(/)
+#undef INERTIA_PACK_OP
+
+#define INERTIA_PACK_CMP(op)                                              \
+  [[gnu::always_inline]] inline Mask operator op(const Pack& a, const Pack& b) { \
+    Mask m;                                                                \
+    for (int i = 0; i < kNatives; ++i) m.n[i] = a.n[i] op b.n[i];          \
+    return m;                                                              \
+  }
+INERTIA_PACK_CMP(<)
+INERTIA_PACK_CMP(>)
+INERTIA_PACK_CMP(<=)
+INERTIA_PACK_CMP(==)
+INERTIA_PACK_CMP(!=)
+#undef INERTIA_PACK_CMP
+
+[[gnu::always_inline]] inline Pack operator-(Pack a) {
+  for (Native& v : a.n) v = -v;
+  return a;
+}
+[[gnu::always_inline]] inline Pack& operator+=(Pack& a, const Pack& b) { return a = a + b; }
+[[gnu::always_inline]] inline Pack& operator-=(Pack& a, const Pack& b) { return a = a - b; }
+[[gnu::always_inline]] inline Mask operator&(Mask a, const Mask& b) {
+  for (int i = 0; i < kNatives; ++i) a.n[i] = a.n[i] & b.n[i];
+  return a;
+}
+/// m ? a : b, lane by lane.
+[[gnu::always_inline]] inline Pack select(const Mask& m, const Pack& a, const Pack& b) {
+  Pack r;
+  for (int i = 0; i < kNatives; ++i) r.n[i] = m.n[i] ? a.n[i] : b.n[i];
+  return r;
+}
+// As std::max and std::min: (a < b) ? b : a and (b < a) ? b : a.
+[[gnu::always_inline]] inline Pack max(const Pack& a, const Pack& b) { return select(a < b, b, a); }
+[[gnu::always_inline]] inline Pack min(const Pack& a, const Pack& b) { return select(b < a, b, a); }
+[[gnu::always_inline]] inline Pack sqrt(Pack a) {
+  for (Native& v : a.n) v = nativeSqrt(v);
+  return a;
+}
+
+struct V3 {
+  Pack x, y, z;
+};
+[[gnu::always_inline]] inline V3 load3(const WideReal (&w)[3]) {
+  return {Pack::load(w[0]), Pack::load(w[1]), Pack::load(w[2])};
+}
+[[gnu::always_inline]] inline Pack dot(const V3& a, const V3& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+[[gnu::always_inline]] inline V3 operator-(const V3& a, const V3& b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+[[gnu::always_inline]] inline V3 operator*(const Pack& s, const V3& a) {
+  return {s * a.x, s * a.y, s * a.z};
+}
+[[gnu::always_inline]] inline void subtract(V3& a, const V3& b) {
+  a.x -= b.x;
+  a.y -= b.y;
+  a.z -= b.z;
+}
+[[gnu::always_inline]] inline void add(V3& a, const V3& b) {
+  a.x += b.x;
+  a.y += b.y;
+  a.z += b.z;
+}
+
+/// The velocities of a bundle's bodies on one side, lane by lane.
+struct Side {
+  V3 v, w;
+};
+
+// Static bodies and empty lanes read zero velocities.
+[[gnu::always_inline]] inline Side gather(const std::array<int, kLanes>& index,
+                                          const SolverBody* bodies) {
+  alignas(32) Real c[6][kLanes];
+  for (int l = 0; l < kLanes; ++l) {
+    const int i = index[std::size_t(l)];
+    if (i >= 0) {
+      const SolverBody& b = bodies[i];
+      c[0][l] = b.v.x(), c[1][l] = b.v.y(), c[2][l] = b.v.z();
+      c[3][l] = b.w.x(), c[4][l] = b.w.y(), c[5][l] = b.w.z();
+    } else {
+      for (auto& row : c) row[l] = 0;
+    }
+  }
+  auto p = [&](int r) {
+    Pack out;
+    std::memcpy(out.n, c[r], sizeof out.n);
+    return out;
+  };
+  return {{p(0), p(1), p(2)}, {p(3), p(4), p(5)}};
+}
+
+// Only moving bodies are written: lanes of a bundle never share one, while static and
+// kinematic bodies (unchanged by impulses) may appear in several lanes and threads.
+[[gnu::always_inline]] inline void scatter(const Side& s, const std::array<int, kLanes>& index,
+                                           std::uint32_t write, SolverBody* bodies) {
+  alignas(32) Real c[6][kLanes];
+  const Pack* parts[6] = {&s.v.x, &s.v.y, &s.v.z, &s.w.x, &s.w.y, &s.w.z};
+  for (int r = 0; r < 6; ++r) std::memcpy(c[r], parts[r]->n, sizeof c[r]);
+  for (int l = 0; l < kLanes; ++l) {
+    if (!((write >> l) & 1u)) continue;
+    SolverBody& b = bodies[index[std::size_t(l)]];
+    b.v = Vec3(c[0][l], c[1][l], c[2][l]);
+    b.w = Vec3(c[3][l], c[4][l], c[5][l]);
+  }
+}
+
+// An impulse `lambda` along one row: direction d, Jacobian images wA = invIA (rA x d) and
+// wB = invIB (rB x d).
+[[gnu::always_inline]] inline void applyRow(Side& a, Side& b, const Pack& invMassA,
+                                            const Pack& invMassB, const V3& d, const V3& wA,
+                                            const V3& wB, const Pack& lambda) {
+  subtract(a.v, (invMassA * lambda) * d);
+  subtract(a.w, lambda * wA);
+  add(b.v, (invMassB * lambda) * d);
+  add(b.w, lambda * wB);
+}
+
+// The velocity along one row: d . (vB - vA) + wB . (rB x d) - wA . (rA x d).
+[[gnu::always_inline]] inline Pack rowVelocity(const Side& a, const Side& b, const V3& d,
+                                               const V3& rA, const V3& rB) {
+  return dot(d, b.v - a.v) + dot(b.w, rB) - dot(a.w, rA);
+}
+
+// The rolling and spinning impulses L = sum of impulse * axis, applied through the inverse
+// inertias' images of the axes.
+[[gnu::always_inline]] inline void applyAngular(Side& a, Side& b, const WideConstraint& c,
+                                                const Pack& roll0, const Pack& roll1,
+                                                const Pack& spin) {
+  subtract(a.w, roll0 * load3(c.iaT[0]));
+  subtract(a.w, roll1 * load3(c.iaT[1]));
+  subtract(a.w, spin * load3(c.iaN));
+  add(b.w, roll0 * load3(c.ibT[0]));
+  add(b.w, roll1 * load3(c.ibT[1]));
+  add(b.w, spin * load3(c.ibN));
+}
+
+[[gnu::always_inline]] inline Pack separation(const WideConstraint& c, const WidePoint& p) {
+  return Pack::load(c.offset) + dot(load3(c.movedB), load3(p.rB)) -
+         dot(load3(c.movedA), load3(p.rA)) + Pack::load(p.adjustedSeparation);
+}
+
+void warmStartBundle(const WideConstraint& c, SolverBody* bodies) {
+  Side a = gather(c.bodyA, bodies), b = gather(c.bodyB, bodies);
+  const Pack mA = Pack::load(c.invMassA), mB = Pack::load(c.invMassB);
+  const V3 n = load3(c.normal);
+  const V3 t[2] = {load3(c.tangent[0]), load3(c.tangent[1])};
+  for (int i = 0; i < c.pointCount; ++i) {
+    const WidePoint& p = c.points[std::size_t(i)];
+    applyRow(a, b, mA, mB, n, load3(p.wnA), load3(p.wnB), Pack::load(p.normalImpulse));
+    for (int k = 0; k < 2; ++k)
+      applyRow(a, b, mA, mB, t[k], load3(p.wtA[k]), load3(p.wtB[k]),
+               Pack::load(p.tangentImpulse[k]));
+  }
+  if (c.angular)
+    applyAngular(a, b, c, Pack::load(c.rollingImpulse[0]), Pack::load(c.rollingImpulse[1]),
+                 Pack::load(c.spinningImpulse));
+  scatter(a, c.bodyA, c.writeA, bodies);
+  scatter(b, c.bodyB, c.writeB, bodies);
+}
+
+// Clamps the 2-vector (x, y) to the disc of radius `limit`, without a branch (sliding or
+// sticking is unpredictable): scaling by 1 is exact.
+[[gnu::always_inline]] inline void clampDisc(Pack& x, Pack& y, const Pack& limit) {
+  const Pack len2 = x * x + y * y;
+  const Pack scale = select(len2 > limit * limit, limit / sqrt(len2), Pack::splat(1));
+  x = x * scale;
+  y = y * scale;
+}
+
+void solveBundle(WideConstraint& c, SolverBody* bodies, const BiasMode& mode) {
+  Side a = gather(c.bodyA, bodies), b = gather(c.bodyB, bodies);
+  const Pack mA = Pack::load(c.invMassA), mB = Pack::load(c.invMassB);
+  const V3 n = load3(c.normal);
+  const Pack zero = Pack::zero(), one = Pack::splat(1);
+  const Pack invH = Pack::splat(mode.invH);
+  const Pack push = Pack::splat(-mode.pushVelocity);
+  Pack totalNormal = zero;
+
+  // Non-penetration rows.
+  for (int i = 0; i < c.pointCount; ++i) {
+    WidePoint& p = c.points[std::size_t(i)];
+    const Pack s = separation(c, p);
+    // s > 0: speculative, the gap may close within this substep, no more.
+    Pack bias = zero, massScale = one, impulseScale = zero;
+    if (mode.useBias) {
+      if (mode.soft) {
+        bias = max(Pack::load(c.biasRate) * s, push);
+        massScale = Pack::load(c.massScale);
+        impulseScale = Pack::load(c.impulseScale);
+      } else {
+        // Baumgarte: feed back a fraction of the overlap beyond the slop.
+        bias = max(Pack::splat(mode.baumgarte) * invH * min(s + Pack::splat(mode.linearSlop), zero),
+                   push);
+      }
+    }
+    const Mask open = s > zero;
+    bias = select(open, s * invH, bias);
+    massScale = select(open, one, massScale);
+    impulseScale = select(open, zero, impulseScale);
+
+    const Pack vn = rowVelocity(a, b, n, load3(p.rnA), load3(p.rnB));
+    const Pack accumulated = Pack::load(p.normalImpulse);
+    const Pack impulse0 =
+        -Pack::load(p.normalMass) * massScale * (vn + bias) - impulseScale * accumulated;
+    const Pack updated = max(accumulated + impulse0, zero);
+    const Pack impulse = updated - accumulated;
+    updated.store(p.normalImpulse);
+    max(Pack::load(p.maxNormalImpulse), impulse).store(p.maxNormalImpulse);
+    totalNormal += updated;
+    applyRow(a, b, mA, mB, n, load3(p.wnA), load3(p.wnB), impulse);
+  }
+
+  // Coulomb friction: the tangential impulse stays in the disc of radius mu * normal.
+  const V3 t[2] = {load3(c.tangent[0]), load3(c.tangent[1])};
+  const Pack friction = Pack::load(c.friction);
+  for (int i = 0; i < c.pointCount; ++i) {
+    WidePoint& p = c.points[std::size_t(i)];
+    Pack old[2], updated[2];
+    for (int k = 0; k < 2; ++k) {
+      old[k] = Pack::load(p.tangentImpulse[k]);
+      updated[k] = old[k] - Pack::load(p.tangentMass[k]) *
+                                rowVelocity(a, b, t[k], load3(p.rtA[k]), load3(p.rtB[k]));
+    }
+    clampDisc(updated[0], updated[1], friction * Pack::load(p.normalImpulse));
+    for (int k = 0; k < 2; ++k) {
+      applyRow(a, b, mA, mB, t[k], load3(p.wtA[k]), load3(p.wtB[k]), updated[k] - old[k]);
+      updated[k].store(p.tangentImpulse[k]);
+    }
+  }
+
+  // Rolling resistance (torque <= b N about the tangents) and spinning friction. A lane
+  // without them has a limit of zero and keeps impulses of zero.
+  if (c.angular) {
+    const V3 dw = b.w - a.w;
+    const Pack old[2] = {Pack::load(c.rollingImpulse[0]), Pack::load(c.rollingImpulse[1])};
+    Pack roll[2];
+    for (int k = 0; k < 2; ++k)
+      roll[k] = old[k] - Pack::load(c.rollingMass[k]) * dot(dw, t[k]);
+    clampDisc(roll[0], roll[1], Pack::load(c.rolling) * totalNormal);
+    const Pack limit = Pack::load(c.spinning) * totalNormal;
+    const Pack oldSpin = Pack::load(c.spinningImpulse);
+    const Pack spin =
+        min(max(oldSpin - Pack::load(c.spinningMass) * dot(dw, n), -limit), limit);
+    applyAngular(a, b, c, roll[0] - old[0], roll[1] - old[1], spin - oldSpin);
+    roll[0].store(c.rollingImpulse[0]);
+    roll[1].store(c.rollingImpulse[1]);
+    spin.store(c.spinningImpulse);
+  }
+  scatter(a, c.bodyA, c.writeA, bodies);
+  scatter(b, c.bodyB, c.writeB, bodies);
+}
+
+void updateApproachBundle(WideConstraint& c, const SolverBody* bodies) {
+  const Side a = gather(c.bodyA, bodies), b = gather(c.bodyB, bodies);
+  const V3 n = load3(c.normal);
+  const Pack zero = Pack::zero();
+  const Mask bouncy = Pack::load(c.restitution) != zero;
+  for (int i = 0; i < c.pointCount; ++i) {
+    WidePoint& p = c.points[std::size_t(i)];
+    const Mask take =
+        bouncy & (Pack::load(p.maxNormalImpulse) == zero) & (separation(c, p) > zero);
+    select(take, rowVelocity(a, b, n, load3(p.rnA), load3(p.rnB)),
+           Pack::load(p.relativeVelocity))
+        .store(p.relativeVelocity);
+  }
+}
+
+void restitutionBundle(WideConstraint& c, SolverBody* bodies, Real threshold) {
+  Side a = gather(c.bodyA, bodies), b = gather(c.bodyB, bodies);
+  const Pack mA = Pack::load(c.invMassA), mB = Pack::load(c.invMassB);
+  const V3 n = load3(c.normal);
+  const Pack zero = Pack::zero();
+  const Pack e = Pack::load(c.restitution);
+  const Mask bouncy = e != zero;
+  for (int i = 0; i < c.pointCount; ++i) {
+    WidePoint& p = c.points[std::size_t(i)];
+    const Pack approach = Pack::load(p.relativeVelocity);
+    const Pack maxImpulse = Pack::load(p.maxNormalImpulse);
+    const Mask hit = bouncy & (approach <= Pack::splat(-threshold)) & (maxImpulse != zero);
+    const Pack vn = rowVelocity(a, b, n, load3(p.rnA), load3(p.rnB));
+    const Pack accumulated = Pack::load(p.normalImpulse);
+    const Pack wanted = select(hit, -Pack::load(p.normalMass) * (vn + e * approach), zero);
+    const Pack updated = max(accumulated + wanted, zero);
+    const Pack impulse = updated - accumulated;
+    updated.store(p.normalImpulse);
+    max(maxImpulse, impulse).store(p.maxNormalImpulse);
+    applyRow(a, b, mA, mB, n, load3(p.wnA), load3(p.wnB), impulse);
+  }
+  scatter(a, c.bodyA, c.writeA, bodies);
+  scatter(b, c.bodyB, c.writeB, bodies);
+}
+
+// The passes over a range of bundles.
+void warmStartRange(const WideConstraint* c, std::size_t count, SolverBody* bodies) {
+  for (std::size_t k = 0; k < count; ++k) warmStartBundle(c[k], bodies);
+}
+void solveRange(WideConstraint* c, std::size_t count, SolverBody* bodies, const BiasMode& mode) {
+  for (std::size_t k = 0; k < count; ++k) solveBundle(c[k], bodies, mode);
+}
+void updateApproachRange(WideConstraint* c, std::size_t count, const SolverBody* bodies) {
+  for (std::size_t k = 0; k < count; ++k)
+    if (c[k].bouncy) updateApproachBundle(c[k], bodies);
+}
+void restitutionRange(WideConstraint* c, std::size_t count, SolverBody* bodies, Real threshold) {
+  for (std::size_t k = 0; k < count; ++k)
+    if (c[k].bouncy) restitutionBundle(c[k], bodies, threshold);
+}
