@@ -125,6 +125,23 @@ struct V3 {
   a.z += b.z;
 }
 
+[[gnu::always_inline]] inline V3 cross(const V3& a, const V3& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+// A row-major 3x3 matrix per lane times v.
+[[gnu::always_inline]] inline V3 multiply(const WideReal (&m)[9], const V3& v) {
+  auto row = [&](int r) {
+    return Pack::load(m[3 * r]) * v.x + Pack::load(m[3 * r + 1]) * v.y +
+           Pack::load(m[3 * r + 2]) * v.z;
+  };
+  return {row(0), row(1), row(2)};
+}
+[[gnu::always_inline]] inline void store3(const V3& v, WideReal (&w)[3]) {
+  v.x.store(w[0]);
+  v.y.store(w[1]);
+  v.z.store(w[2]);
+}
+
 /// The velocities of a bundle's bodies on one side, lane by lane.
 struct Side {
   V3 v, w;
@@ -200,6 +217,53 @@ struct Side {
 [[gnu::always_inline]] inline Pack separation(const WideConstraint& c, const WidePoint& p) {
   return Pack::load(c.offset) + dot(load3(c.movedB), load3(p.rB)) -
          dot(load3(c.movedA), load3(p.rA)) + Pack::load(p.adjustedSeparation);
+}
+
+// 1 / k for the effective mass k of a row, 0 for a row that no impulse can move (k = 0).
+[[gnu::always_inline]] inline Pack invEffective(const Pack& k) {
+  const Pack zero = Pack::zero();
+  return select(k > zero, Pack::splat(1) / k, zero);
+}
+
+// The rows' angular Jacobians r x d, their images under the inverse inertias, and the
+// effective masses, as computeMasses() does for one constraint. Points beyond a lane's own
+// count keep masses of zero.
+void prepareBundle(WideConstraint& c, const WideInertia& inertia) {
+  const Pack mSum = Pack::load(c.invMassA) + Pack::load(c.invMassB);
+  const V3 n = load3(c.normal);
+  const V3 t[2] = {load3(c.tangent[0]), load3(c.tangent[1])};
+  const Pack points = Pack::load(c.lanePoints), zero = Pack::zero();
+  for (int i = 0; i < c.pointCount; ++i) {
+    WidePoint& p = c.points[std::size_t(i)];
+    const Mask real = points > Pack::splat(Real(i));
+    const V3 rA = load3(p.rA), rB = load3(p.rB);
+    // One row: returns its effective mass, stores its Jacobians.
+    auto row = [&](const V3& d, WideReal (&ra)[3], WideReal (&rb)[3], WideReal (&wa)[3],
+                   WideReal (&wb)[3]) {
+      const V3 rdA = cross(rA, d), rdB = cross(rB, d);
+      const V3 wdA = multiply(inertia.a, rdA), wdB = multiply(inertia.b, rdB);
+      store3(rdA, ra);
+      store3(rdB, rb);
+      store3(wdA, wa);
+      store3(wdB, wb);
+      return select(real, invEffective(mSum + dot(rdA, wdA) + dot(rdB, wdB)), zero);
+    };
+    row(n, p.rnA, p.rnB, p.wnA, p.wnB).store(p.normalMass);
+    for (int k = 0; k < 2; ++k)
+      row(t[k], p.rtA[k], p.rtB[k], p.wtA[k], p.wtB[k]).store(p.tangentMass[k]);
+  }
+  if (c.angular) {
+    for (int k = 0; k < 2; ++k) {
+      const V3 ia = multiply(inertia.a, t[k]), ib = multiply(inertia.b, t[k]);
+      store3(ia, c.iaT[k]);
+      store3(ib, c.ibT[k]);
+      invEffective(dot(t[k], ia) + dot(t[k], ib)).store(c.rollingMass[k]);
+    }
+    const V3 ia = multiply(inertia.a, n), ib = multiply(inertia.b, n);
+    store3(ia, c.iaN);
+    store3(ib, c.ibN);
+    invEffective(dot(n, ia) + dot(n, ib)).store(c.spinningMass);
+  }
 }
 
 void warmStartBundle(const WideConstraint& c, SolverBody* bodies) {

@@ -120,16 +120,17 @@ namespace avx2 {
 namespace {
 
 struct Kernels {
+  void (*prepare)(WideConstraint&, const WideInertia&);
   void (*warmStart)(const WideConstraint*, std::size_t, SolverBody*);
   void (*solve)(WideConstraint*, std::size_t, SolverBody*, const BiasMode&);
   void (*updateApproach)(WideConstraint*, std::size_t, const SolverBody*);
   void (*restitution)(WideConstraint*, std::size_t, SolverBody*, Real);
 };
 
-constexpr Kernels kSse2{sse2::warmStartRange, sse2::solveRange, sse2::updateApproachRange,
+constexpr Kernels kSse2{sse2::prepareBundle, sse2::warmStartRange, sse2::solveRange, sse2::updateApproachRange,
                         sse2::restitutionRange};
 #ifdef INERTIA_HAVE_AVX2_KERNELS
-constexpr Kernels kAvx2{avx2::warmStartRange, avx2::solveRange, avx2::updateApproachRange,
+constexpr Kernels kAvx2{avx2::prepareBundle, avx2::warmStartRange, avx2::solveRange, avx2::updateApproachRange,
                         avx2::restitutionRange};
 #endif
 
@@ -186,8 +187,8 @@ Vec3 get3(const WideReal (&w)[3], int lane) {
   return {w[0].lane[lane], w[1].lane[lane], w[2].lane[lane]};
 }
 
-// Lane `l` of `w` from constraint `c`; the rest of `w` is zero.
-void packLane(WideConstraint& w, int l, const ContactConstraint& c,
+// Lane `l` of `w` and of `inertia` from constraint `c`; the rest of `w` is zero.
+void packLane(WideConstraint& w, WideInertia& inertia, int l, const ContactConstraint& c,
               const std::vector<SolverBody>& bodies) {
   const SolverBody none{};
   const SolverBody& a = c.bodyA >= 0 ? bodies[std::size_t(c.bodyA)] : none;
@@ -197,8 +198,13 @@ void packLane(WideConstraint& w, int l, const ContactConstraint& c,
   if (a.invMass > 0) w.writeA |= 1u << l;
   if (b.invMass > 0) w.writeB |= 1u << l;
   w.pointCount = std::max(w.pointCount, c.pointCount);
+  w.lanePoints.lane[l] = Real(c.pointCount);
   w.invMassA.lane[l] = a.invMass;
   w.invMassB.lane[l] = b.invMass;
+  for (int i = 0; i < 9; ++i) {
+    inertia.a[i].lane[l] = a.invInertia(i / 3, i % 3);
+    inertia.b[i].lane[l] = b.invInertia(i / 3, i % 3);
+  }
   put3(w.normal, l, c.normal);
   for (std::size_t k = 0; k < 2; ++k) put3(w.tangent[k], l, c.tangent[k]);
   w.friction.lane[l] = c.friction;
@@ -211,16 +217,8 @@ void packLane(WideConstraint& w, int l, const ContactConstraint& c,
     w.angular = true;
     w.rolling.lane[l] = c.rolling;
     w.spinning.lane[l] = c.spinning;
-    for (std::size_t k = 0; k < 2; ++k) {
-      w.rollingMass[k].lane[l] = c.rollingMass[k];
-      w.rollingImpulse[k].lane[l] = c.rollingImpulse[k];
-      put3(w.iaT[k], l, a.invInertia * c.tangent[k]);
-      put3(w.ibT[k], l, b.invInertia * c.tangent[k]);
-    }
-    w.spinningMass.lane[l] = c.spinningMass;
+    for (std::size_t k = 0; k < 2; ++k) w.rollingImpulse[k].lane[l] = c.rollingImpulse[k];
     w.spinningImpulse.lane[l] = c.spinningImpulse;
-    put3(w.iaN, l, a.invInertia * c.normal);
-    put3(w.ibN, l, b.invInertia * c.normal);
   }
   for (int i = 0; i < c.pointCount; ++i) {
     const ConstraintPoint& p = c.points[std::size_t(i)];
@@ -228,22 +226,10 @@ void packLane(WideConstraint& w, int l, const ContactConstraint& c,
     put3(q.rA, l, p.rA);
     put3(q.rB, l, p.rB);
     q.adjustedSeparation.lane[l] = p.adjustedSeparation;
-    q.normalMass.lane[l] = p.normalMass;
     q.normalImpulse.lane[l] = p.normalImpulse;
     q.maxNormalImpulse.lane[l] = p.maxNormalImpulse;
     q.relativeVelocity.lane[l] = p.relativeVelocity;
-    put3(q.rnA, l, p.rnA);
-    put3(q.rnB, l, p.rnB);
-    put3(q.wnA, l, p.wnA);
-    put3(q.wnB, l, p.wnB);
-    for (std::size_t k = 0; k < 2; ++k) {
-      q.tangentMass[k].lane[l] = p.tangentMass[k];
-      q.tangentImpulse[k].lane[l] = p.tangentImpulse[k];
-      put3(q.rtA[k], l, p.rtA[k]);
-      put3(q.rtB[k], l, p.rtB[k]);
-      put3(q.wtA[k], l, p.wtA[k]);
-      put3(q.wtB[k], l, p.wtB[k]);
-    }
+    for (std::size_t k = 0; k < 2; ++k) q.tangentImpulse[k].lane[l] = p.tangentImpulse[k];
   }
 }
 
@@ -278,6 +264,7 @@ void ContactBundles::build(const std::vector<ContactConstraint>& cs,
   bundles_.assign(total, WideConstraint{});
   std::vector<std::uint32_t> members;
   std::size_t next = 0;
+  const Kernels& kernel = kernels();
   for (std::size_t g = 0; g < groups; ++g) {
     const bool sequential = g + 1 == groups && overflow_;
     members.assign(coloring.order.begin() + coloring.offsets[g],
@@ -294,11 +281,13 @@ void ContactBundles::build(const std::vector<ContactConstraint>& cs,
       w.bodyA.fill(-1);
       w.bodyB.fill(-1);
       w.lanes = int(std::min(per, members.size() - first));
+      WideInertia inertia{};
       for (int l = 0; l < w.lanes; ++l) {
         const std::uint32_t k = members[first + std::size_t(l)];
         w.source[std::size_t(l)] = k;
-        packLane(w, l, cs[k], bodies);
+        packLane(w, inertia, l, cs[k], bodies);
       }
+      kernel.prepare(w, inertia);
     }
     groupOffsets_.push_back(static_cast<std::uint32_t>(next));
   }

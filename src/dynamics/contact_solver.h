@@ -156,6 +156,7 @@ struct WideConstraint {
   WideReal friction, restitution, rolling, spinning;
   WideReal rollingMass[2], rollingImpulse[2], spinningMass, spinningImpulse;
   WideReal biasRate, massScale, impulseScale;
+  WideReal lanePoints;              ///< Each lane's own point count.
   // The normal in the frames of A's and B's motion since the step's start, and
   // n . (dpB - dpA): a point's current separation is offset + movedB . rB - movedA . rA +
   // adjustedSeparation. Refreshed after each position update (ContactBundles::updateMotion).
@@ -164,6 +165,11 @@ struct WideConstraint {
   // spinning rows (only when `angular`).
   WideReal iaT[2][3], iaN[3], ibT[2][3], ibN[3];
   std::array<WidePoint, 4> points{};
+};
+
+/// The inverse inertias of a bundle's bodies, lane by lane (row-major 3x3).
+struct WideInertia {
+  WideReal a[9], b[9];
 };
 
 /// The contact constraints of a step packed into bundles colour by colour: the bundles of a
@@ -175,7 +181,8 @@ struct WideConstraint {
 /// instruction set and the thread count.
 class ContactBundles {
  public:
-  /// Packs `cs` (masses computed) in the order of `coloring`, and takes the bodies' motion
+  /// Packs `cs` in the order of `coloring`, computes the rows' effective masses and angular
+  /// Jacobians (as computeMasses, lane by lane: `cs` need not have them), and takes the bodies' motion
   /// since the step's start as updateMotion() does.
   void build(const std::vector<ContactConstraint>& cs, const std::vector<SolverBody>& bodies,
              const ConstraintColoring& coloring);

@@ -1053,13 +1053,15 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
     c.spinningImpulse = extra.angularImpulse.dot(c.normal);
     D.constraints.push_back(c);
   }
-  for (ContactConstraint& c : D.constraints) {
-    const SolverBody none{};
-    const SolverBody& a = c.bodyA >= 0 ? D.solverBodies[static_cast<std::size_t>(c.bodyA)] : none;
-    const SolverBody& b = c.bodyB >= 0 ? D.solverBodies[static_cast<std::size_t>(c.bodyB)] : none;
-    detail::computeMasses(c, a, b);
-  }
-  if (!lcp) {
+  if (lcp) {
+    for (ContactConstraint& c : D.constraints) {
+      const SolverBody none{};
+      const SolverBody& a = c.bodyA >= 0 ? D.solverBodies[static_cast<std::size_t>(c.bodyA)] : none;
+      const SolverBody& b = c.bodyB >= 0 ? D.solverBodies[static_cast<std::size_t>(c.bodyB)] : none;
+      detail::computeMasses(c, a, b);
+    }
+  } else {
+    // The bundles compute the masses themselves, eight constraints at a time.
     detail::colorConstraints(D.constraints, D.solverBodies, D.coloring);
     D.bundles.build(D.constraints, D.solverBodies, D.coloring);
   }
