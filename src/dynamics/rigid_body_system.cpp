@@ -223,6 +223,8 @@ struct RigidBodySystem::Data {
   std::vector<ContactInfo> previous;
   std::vector<ContactExtra> previousExtras;
   std::vector<std::uint32_t> order;
+  std::vector<ContactInfo> sortedContacts;  // scratch of the sort by key
+  std::vector<ContactExtra> sortedExtras;
   std::vector<ContactConstraint> constraints;
   std::vector<SolverBody> solverBodies;
   std::vector<NarrowChunk> chunks;
@@ -793,6 +795,10 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
     out.extras.clear();
     const std::size_t first = chunk * kPairChunk;
     const std::size_t last = std::min(first + kPairChunk, D.pairs.size());
+    auto previous = std::lower_bound(
+        D.previous.begin(), D.previous.end(),
+        std::make_tuple(D.pairs[first].first, D.pairs[first].second, 0u, 0u),
+        [](const ContactInfo& p, const auto& k) { return contactKey(p) < k; });
     for (std::size_t pi = first; pi < last; ++pi) {
       const auto [a, b] = D.pairs[pi];
       const ShapeRecord& sa = D.shapes[a];
@@ -815,11 +821,11 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
                              singleManifold(sb.collider.type());
       const Transform relative = poseA.inverse() * poseB;
       if (cacheable) {
-        // Last step's manifold of this pair, if its features still hold.
+        // Last step's manifold of this pair, if its features still hold. The pairs and last
+        // step's contacts are both sorted by shapes: one walk through the latter per chunk.
         const auto key = std::make_tuple(a, b, 0u, 0u);
-        auto it =
-            std::lower_bound(D.previous.begin(), D.previous.end(), key,
-                             [](const ContactInfo& p, const auto& k) { return contactKey(p) < k; });
+        while (previous != D.previous.end() && contactKey(*previous) < key) ++previous;
+        const auto it = previous;
         if (it != D.previous.end() && contactKey(*it) == key && it->bodyA == info.bodyA) {
           const ContactExtra& pe =
               D.previousExtras[static_cast<std::size_t>(it - D.previous.begin())];
@@ -888,25 +894,29 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
     D.contacts.push_back(c);
     D.extras.push_back(D.previousExtras[i]);
   }
-  // A deterministic order: by shapes, then sub-shapes.
-  D.order.resize(D.contacts.size());
-  std::iota(D.order.begin(), D.order.end(), 0u);
-  std::stable_sort(D.order.begin(), D.order.end(), [&](std::uint32_t x, std::uint32_t y) {
-    return contactKey(D.contacts[x]) < contactKey(D.contacts[y]);
-  });
-  {
-    std::vector<ContactInfo> sorted;
-    std::vector<ContactExtra> sortedExtras;
-    sorted.reserve(D.order.size());
-    sortedExtras.reserve(D.order.size());
+  // A deterministic order: by shapes, then sub-shapes. The pairs come sorted, so only the
+  // kept contacts of resting bodies or a compound's manifolds can leave it unsorted.
+  const auto byKey = [](const ContactInfo& x, const ContactInfo& y) {
+    return contactKey(x) < contactKey(y);
+  };
+  if (!std::is_sorted(D.contacts.begin(), D.contacts.end(), byKey)) {
+    D.order.resize(D.contacts.size());
+    std::iota(D.order.begin(), D.order.end(), 0u);
+    std::stable_sort(D.order.begin(), D.order.end(), [&](std::uint32_t x, std::uint32_t y) {
+      return byKey(D.contacts[x], D.contacts[y]);
+    });
+    D.sortedContacts.clear();
+    D.sortedExtras.clear();
     for (std::uint32_t i : D.order) {
-      sorted.push_back(D.contacts[i]);
-      sortedExtras.push_back(D.extras[i]);
+      D.sortedContacts.push_back(D.contacts[i]);
+      D.sortedExtras.push_back(D.extras[i]);
     }
-    D.contacts.swap(sorted);
-    D.extras.swap(sortedExtras);
+    D.contacts.swap(D.sortedContacts);
+    D.extras.swap(D.sortedExtras);
   }
-  // Warm start: match each point to last step's by (shapes, sub-shapes, feature id).
+  // Warm start: match each point to last step's by (shapes, sub-shapes, feature id), in one
+  // walk through both sorted lists.
+  auto previous = D.previous.begin();
   for (std::size_t i = 0; i < D.contacts.size(); ++i) {
     ContactInfo& c = D.contacts[i];
     ContactExtra& e = D.extras[i];
@@ -914,8 +924,8 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
     for (int k = 0; k < c.manifold.pointCount; ++k)
       e.touching = e.touching || c.manifold.points[k].separation <= tuning.linearSlop;
     const auto key = contactKey(c);
-    auto it = std::lower_bound(D.previous.begin(), D.previous.end(), key,
-                               [](const ContactInfo& p, const auto& k) { return contactKey(p) < k; });
+    while (previous != D.previous.end() && contactKey(*previous) < key) ++previous;
+    const auto it = previous;
     if (it == D.previous.end() || contactKey(*it) != key || it->bodyA != c.bodyA) continue;
     const ContactExtra& pe = D.previousExtras[static_cast<std::size_t>(it - D.previous.begin())];
     bool carried = false;
@@ -1001,7 +1011,7 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
     const bool aActive = ba.type == BodyType::Dynamic && ba.awake;
     const bool bActive = bb.type == BodyType::Dynamic && bb.awake;
     if (!aActive && !bActive) continue;
-    ContactConstraint c;
+    ContactConstraint& c = D.constraints.emplace_back();
     c.contactIndex = static_cast<int>(ci);
     c.bodyA = solverSlot(info.bodyA.index);
     c.bodyB = solverSlot(info.bodyB.index);
@@ -1051,7 +1061,6 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
     c.friction = tangentialSpeed < kStickSpeed ? staticFriction : slidingFriction;
     for (int t = 0; t < 2; ++t) c.rollingImpulse[t] = extra.angularImpulse.dot(c.tangent[t]);
     c.spinningImpulse = extra.angularImpulse.dot(c.normal);
-    D.constraints.push_back(c);
   }
   if (lcp) {
     for (ContactConstraint& c : D.constraints) {
