@@ -58,8 +58,9 @@ constexpr Table makeTable() {
   set(Plane, Cylinder, appendConvex<detail::collidePlaneCylinder>);
   set(Plane, Hull, appendConvex<detail::collidePlaneHull>);
   set(Plane, HeightField, none);  // both static
-  for (ShapeType b : {Sphere, Capsule, Box, Cylinder, Hull})
+  for (ShapeType b : {Capsule, Box, Cylinder, Hull})
     set(Sphere, b, appendConvex<detail::collideSphereConvex>);
+  set(Sphere, Sphere, appendConvex<detail::collideSpheres>);
   set(Capsule, Capsule, appendConvex<detail::collideCapsules>);
   set(Capsule, Box, appendConvex<detail::collideCapsulePolyhedron>);
   set(Capsule, Hull, appendConvex<detail::collideCapsulePolyhedron>);

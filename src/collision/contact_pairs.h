@@ -36,6 +36,9 @@ bool collidePlaneHull(const Collider&, const Transform&, const Collider&, const 
 // sphere_contacts.cpp: the closest point of B to the sphere's centre (queryPoint), one point.
 bool collideSphereConvex(const Collider&, const Transform&, const Collider&, const Transform&,
                          const ContactSettings&, ContactManifold&);
+/// Two spheres: the same manifold as collideSphereConvex, from the centres alone.
+bool collideSpheres(const Collider&, const Transform&, const Collider&, const Transform&,
+                    const ContactSettings&, ContactManifold&);
 
 // capsule_contacts.cpp
 bool collideCapsules(const Collider&, const Transform&, const Collider&, const Transform&,

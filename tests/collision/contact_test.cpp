@@ -253,6 +253,35 @@ TEST(Contact, SphereOnEverythingOnePointAnalyticDepth) {
   }
 }
 
+// Two spheres go straight from their centres: the same manifold as the general sphere-convex
+// path (the other sphere's point query in its own frame), to the rounding of its two
+// rotations (a few ulps of the 2 m scale), at random poses, radii and distances, speculative
+// gaps included, and with coincident centres.
+TEST(Contact, SphereSphereEqualsTheGeneralSphereConvexPath) {
+  std::mt19937_64 rng(21);
+  std::uniform_real_distribution<double> r(0.1, 1);
+  const ContactSettings settings{.speculativeDistance = Real(0.1)};
+  int touching = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const Collider a{Shape(Sphere{Real(r(rng))})}, b{Shape(Sphere{Real(r(rng))})};
+    const Transform pa{randomVec(rng, -1, 1), randomRotation(rng)};
+    Transform pb{randomVec(rng, -1, 1), randomRotation(rng)};
+    if (i == 0) pb.p = pa.p;
+    ContactManifold fast, general;
+    const bool hit = detail::collideSpheres(a, pa, b, pb, settings, fast);
+    ASSERT_EQ(hit, detail::collideSphereConvex(a, pa, b, pb, settings, general)) << i;
+    if (!hit) continue;
+    ++touching;
+    ASSERT_EQ(fast.pointCount, 1);
+    EXPECT_LE((fast.normal - general.normal).norm(), 16 * kEps) << i;
+    EXPECT_NEAR(fast.points[0].separation, general.points[0].separation, 16 * kEps) << i;
+    EXPECT_LE((fast.points[0].pointA - general.points[0].pointA).norm(), 32 * kEps) << i;
+    EXPECT_LE((fast.points[0].pointB - general.points[0].pointB).norm(), 32 * kEps) << i;
+    EXPECT_EQ(fast.points[0].id, general.points[0].id);
+  }
+  EXPECT_GT(touching, 500);
+}
+
 TEST(Contact, CylinderStandingAndLyingOnPlaneAndBox) {
   const Collider cyl{Shape(Cylinder{Real(0.4), Real(0.6)})};
   const Collider plane{Shape(Plane{Vec3::UnitY(), 0})}, box{Shape(Box{Vec3(3, Real(0.5), 3)})};
