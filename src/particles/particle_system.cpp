@@ -24,6 +24,7 @@
 #include "inertia/core/error.h"
 #include "inertia/geometry/bounds.h"
 #include "inertia/ode/step.h"
+#include "fast_path.h"
 
 namespace inertia {
 
@@ -33,6 +34,7 @@ namespace {
 // the thread count, so every run cuts the pool the same way (determinism); small enough that a
 // batch's arrays stay in L2 between its integration and collision passes.
 constexpr std::size_t kBatch = 2048;
+static_assert(kBatch <= detail::kMaxParticleBatch);
 
 // Gap kept between a particle's surface and an obstacle after a correction (m): keeps rounding
 // from leaving the centre a hair inside, so "never below the plane" holds exactly.
@@ -62,13 +64,21 @@ void respond(Vec3& v, const Vec3& n, Real e, Real mu, Real threshold) {
   v = vt - ee * vn * n;
 }
 
-// One obstacle as the near test sees it: a plane (normal n, offset, skin included) or a world
-// box (inflated by the skin).
-struct NearTest {
-  bool plane;
-  Real n0, n1, n2, offset;
-  Real lo0, lo1, lo2, hi0, hi1, hi2;
-};
+using NearTest = detail::ParticleNearTest;
+
+// An obstacle's near test: planes by normal and offset, the others by their world box, both
+// moved out by the skin.
+template <class Cache>
+NearTest nearTest(const Cache& c) {
+  NearTest t;
+  t.plane = c.plane;
+  t.n0 = c.normal.x(), t.n1 = c.normal.y(), t.n2 = c.normal.z(), t.offset = c.offset + kSkin;
+  t.lo0 = c.bounds.lower[0] - kSkin, t.lo1 = c.bounds.lower[1] - kSkin,
+  t.lo2 = c.bounds.lower[2] - kSkin;
+  t.hi0 = c.bounds.upper[0] + kSkin, t.hi1 = c.bounds.upper[1] + kSkin,
+  t.hi2 = c.bounds.upper[2] + kSkin;
+  return t;
+}
 
 // Whether particle j's swept box (start a, end b, inflated by its radius r) may touch obstacle
 // t. Conservative: a false positive only costs the full test.
@@ -320,8 +330,14 @@ void ParticleSystem::step(Real h, tbb::task_arena* arena) {
     std::size_t deaths = 0;
     const std::size_t batches = (n + kBatch - 1) / kBatch;
     for (std::size_t b = 0; b < batches; ++b) deaths += scratch_->deaths[b];
-    // The compaction reads every flag: skip it when the pass counted no death.
-    const std::size_t died = deaths > 0 ? pool_.removeFlagged({scratch_->dead.data(), n}) : 0;
+    // The compaction reads every flag: skip it when the pass counted no death. The fused kernel
+    // writes only the flags of deaths (a step of immortal particles writes none of the 1 MB a
+    // million take): they are cleared after each compaction for the next step.
+    std::size_t died = 0;
+    if (deaths > 0) {
+      died = pool_.removeFlagged({scratch_->dead.data(), n});
+      std::fill_n(scratch_->dead.data(), n, std::uint8_t(0));
+    }
     stats_.died += std::int64_t(died);
     if (died > 0 && !springs_.empty()) resolveSprings();
     time_ += double(h);
@@ -342,11 +358,32 @@ void ParticleSystem::integrate(Real h) {
     if (collide) std::copy_n(pool_.positions().data(), 3 * n, w.previous.data());
     integrateCoupled(h);
   }
-  // Symplectic Euler, the default, takes a fused path: the fields are evaluated into a batch
-  // buffer by the same applyFields() the ode layer's callback calls, then one loop does what
-  // ode::symplecticEuler does (v += h a, then x += h v, element by element: the same bits) and
-  // keeps the start positions on the way. The other methods go through ode::step.
+  // Symplectic Euler, the default, takes a fused path: one kernel per batch does what
+  // ode::symplecticEuler does (v += h a, then x += h v, element by element: the same bits),
+  // keeps the start positions, ages the particles and lists those near an obstacle, in one pass
+  // over the batch's arrays. Gravity and linear drag without regions (the usual fields) are
+  // summed inside the kernel; other fields are evaluated into a batch buffer first by the same
+  // applyFields() the ode layer's callback calls. The other methods go through ode::step.
   const bool fused = !coupled && settings_.integrator == ode::Method::SymplecticEuler;
+  const detail::ParticleIsa isa = detail::particleIsa();
+  detail::ParticleFieldTerm terms[detail::kMaxParticleTerms];
+  std::size_t termCount = 0;
+  bool inKernel = fields_.size() <= detail::kMaxParticleTerms;
+  for (std::size_t k = 0; inKernel && k < fields_.size(); ++k) {
+    const auto* g = std::get_if<GravityField>(&fields_[k].field);
+    const auto* d = std::get_if<LinearDragField>(&fields_[k].field);
+    inKernel = !fields_[k].region && (g || d);
+    if (g)
+      terms[termCount++] = {
+          .gravity = true, .g0 = g->g[0], .g1 = g->g[1], .g2 = g->g[2], .negK = 0};
+    if (d) terms[termCount++] = {.gravity = false, .g0 = 0, .g1 = 0, .g2 = 0, .negK = -d->k};
+  }
+  // With few obstacles the kernel filters against all of them; with more, collideObstacles()
+  // first culls them by each batch's box, which needs the whole batch moved.
+  detail::ParticleNearTest tests[detail::kMaxParticleStepTests];
+  const bool nearInKernel = collide && obstacleCache_.size() <= detail::kMaxParticleStepTests;
+  if (nearInKernel)
+    for (std::size_t k = 0; k < obstacleCache_.size(); ++k) tests[k] = nearTest(obstacleCache_[k]);
 
   const std::size_t batches = (n + kBatch - 1) / kBatch;
   tbb::parallel_for(
@@ -363,41 +400,61 @@ void ParticleSystem::integrate(Real h) {
           const Real* previous = coupled ? w.previous.data() + 3 * begin : start;
           if (fused) {
             Real acc[3 * kBatch];
-            // The accelerations start at zero and the fields add to them. A leading gravity
-            // field without a region adds the same g to all: start from 0 + g instead (the same
-            // bits, one pass fewer).
-            std::span<const ForceField> rest = fields_;
-            const GravityField* g = fields_.empty() || fields_[0].region ? nullptr
-                                                                         : std::get_if<GravityField>(&fields_[0].field);
-            if (g) {
-              const Real g0 = Real(0) + g->g[0], g1 = Real(0) + g->g[1], g2 = Real(0) + g->g[2];
-              for (std::size_t i = 0; i < count; ++i) {
-                acc[3 * i] = g0;
-                acc[3 * i + 1] = g1;
-                acc[3 * i + 2] = g2;
+            if (!inKernel) {
+              // The accelerations start at zero and the fields add to them. A leading gravity
+              // field without a region adds the same g to all: start from 0 + g instead (the
+              // same bits, one pass fewer).
+              std::span<const ForceField> rest = fields_;
+              const GravityField* g = fields_.empty() || fields_[0].region
+                                          ? nullptr
+                                          : std::get_if<GravityField>(&fields_[0].field);
+              if (g) {
+                const Real g0 = Real(0) + g->g[0], g1 = Real(0) + g->g[1], g2 = Real(0) + g->g[2];
+                for (std::size_t i = 0; i < count; ++i) {
+                  acc[3 * i] = g0;
+                  acc[3 * i + 1] = g1;
+                  acc[3 * i + 2] = g2;
+                }
+                rest = rest.subspan(1);
+              } else {
+                std::fill_n(acc, 3 * count, Real(0));
               }
-              rest = rest.subspan(1);
-            } else {
-              std::fill_n(acc, 3 * count, Real(0));
+              applyFields(rest, FieldBatch{t, x, v, m, {acc, 3 * count}});
             }
-            applyFields(rest, FieldBatch{t, x, v, m, {acc, 3 * count}});
-            Real* xs = x.data();
-            Real* vs = v.data();
-            // In chunks of 48 Reals (16 particles, 3 cache lines of each vector array): before
-            // each, the matching lines of the next batch's arrays are asked for, so memory
-            // streams them in while this batch computes (a batch is too short for the hardware
-            // prefetchers to reach full speed on each of its six streams).
-            const std::size_t nextCount = b + 1 < batches ? std::min(kBatch, n - (b + 1) * kBatch) : 0;
-            for (std::size_t j0 = 0; j0 < 3 * count; j0 += 48) {
-              if (j0 < 3 * nextCount) prefetchAhead(b + 1, j0);
-              const std::size_t j1 = std::min(j0 + 48, 3 * count);
-              for (std::size_t j = j0; j < j1; ++j) {
-                const Real vj = vs[j] + h * acc[j];
-                vs[j] = vj;
-                start[j] = xs[j];
-                xs[j] = xs[j] + h * vj;
-              }
+            std::uint16_t near[kBatch];
+            detail::ParticleStepBatch batch{.count = count,
+                                            .h = h,
+                                            .x = x.data(),
+                                            .v = v.data(),
+                                            .m = m.data(),
+                                            .age = pool_.ages().data() + begin,
+                                            .life = pool_.lifetimes().data() + begin,
+                                            .radius = pool_.radii().data() + begin,
+                                            .acc = inKernel ? nullptr : acc,
+                                            .terms = terms,
+                                            .termCount = termCount,
+                                            .start = start,
+                                            .dead = w.dead.data() + begin,
+                                            .tests = nearInKernel ? tests : nullptr,
+                                            .testCount = nearInKernel ? obstacleCache_.size() : 0,
+                                            .list = near};
+            if (b + 1 < batches) {
+              const std::size_t next = begin + kBatch;
+              batch.next[0] = pool_.positions().data() + 3 * next;
+              batch.next[1] = pool_.velocities().data() + 3 * next;
+              batch.next[2] = pool_.masses().data() + next;
+              batch.next[3] = pool_.ages().data() + next;
+              batch.next[4] = pool_.lifetimes().data() + next;
+              batch.next[5] = pool_.radii().data() + next;
+              batch.nextCount = std::min(kBatch, n - next);
             }
+            const detail::ParticleStepCounts counts = detail::stepParticleBatch(isa, batch);
+            w.deaths[b] = counts.deaths;
+            if (nearInKernel)
+              collideObstacles(begin, begin + count, start, near, counts.listed);
+            else if (collide)
+              collideObstacles(begin, begin + count, start);
+            continue;
           } else if (!coupled) {
             if (collide) std::copy_n(x.data(), 3 * count, start);
             auto accel = [&](Real time, ode::ConstView<Real> xs, ode::ConstView<Real> vs,
@@ -513,26 +570,6 @@ bool ParticleSystem::collidePlaneOnly(const ObstacleCache& c, const Real* previo
   return true;
 }
 
-// Prefetches the cache lines of batch b's hot arrays that match element j of its vector arrays
-// (3 lines of positions and of velocities, 1 of each scalar array).
-void ParticleSystem::prefetchAhead(std::size_t b, std::size_t j) const {
-#if INERTIA_PARTICLES_SSE
-  const std::size_t begin = b * kBatch;
-  auto lines = [](const Real* p, int count) {
-    for (int q = 0; q < count; ++q) _mm_prefetch(reinterpret_cast<const char*>(p) + 64 * q, _MM_HINT_T0);
-  };
-  lines(pool_.positions().data() + 3 * begin + j, 3);
-  lines(pool_.velocities().data() + 3 * begin + j, 3);
-  lines(pool_.masses().data() + begin + j / 3, 1);
-  lines(pool_.ages().data() + begin + j / 3, 1);
-  lines(pool_.lifetimes().data() + begin + j / 3, 1);
-  lines(pool_.radii().data() + begin + j / 3, 1);
-#else
-  (void)b;
-  (void)j;
-#endif
-}
-
 // Springs couple particles across batches: the whole pool is one system. Fields are still
 // evaluated batch by batch in parallel; the springs add their forces in a fixed order.
 void ParticleSystem::integrateCoupled(Real h) {
@@ -559,20 +596,14 @@ void ParticleSystem::integrateCoupled(Real h) {
             w.coupled);
 }
 
-void ParticleSystem::collideObstacles(std::size_t begin, std::size_t end, const Real* previous) {
-  auto xs = pool_.positions();
-  auto vs = pool_.velocities();
+// Lists (as offsets from `begin`) the particles of a batch whose swept box may touch an
+// obstacle: a is the batch's start positions, b its end positions.
+std::size_t ParticleSystem::nearList(std::size_t begin, std::size_t count, const Real* a0,
+                                     const Real* b0, std::uint16_t* list) const {
   const auto radii = pool_.radii();
-  const Real e = settings_.restitution, mu = settings_.friction,
-             threshold = settings_.restitutionThreshold;
-  // Most particles are far from every obstacle. A vectorised pass over the batch lists those
-  // whose swept box (inflated by the radius) may touch one; only they take the full path below.
-  const std::size_t count = end - begin;
-  const Real* a0 = previous ? previous : &xs[3 * begin];
-  const Real* b0 = &xs[3 * begin];
   // Many obstacles (bodies): first keep those whose box meets the batch's swept box.
   Aabb batchBox;
-  if (obstacleCache_.size() > 8) {
+  if (obstacleCache_.size() > detail::kMaxParticleStepTests) {
     Real reach = 0;
     for (std::size_t j = 0; j < count; ++j) {
       batchBox.extend(Eigen::Map<const Vec3>(a0 + 3 * j));
@@ -583,34 +614,79 @@ void ParticleSystem::collideObstacles(std::size_t begin, std::size_t end, const 
   }
   NearTest tests[kMaxNearTests];
   std::size_t testCount = 0;
-  bool all = false;  // too many to filter: test everyone
   for (const ObstacleCache& c : obstacleCache_) {
-    if (obstacleCache_.size() > 8 && !c.plane && !c.bounds.overlaps(batchBox)) continue;
+    if (obstacleCache_.size() > detail::kMaxParticleStepTests && !c.plane &&
+        !c.bounds.overlaps(batchBox))
+      continue;
     if (testCount == kMaxNearTests) {
-      all = true;
-      break;
+      // Too many to filter: test everyone.
+      for (std::size_t j = 0; j < count; ++j) list[j] = std::uint16_t(j);
+      return count;
     }
-    NearTest& t = tests[testCount++];
-    t.plane = c.plane;
-    t.n0 = c.normal.x(), t.n1 = c.normal.y(), t.n2 = c.normal.z(), t.offset = c.offset + kSkin;
-    t.lo0 = c.bounds.lower[0] - kSkin, t.lo1 = c.bounds.lower[1] - kSkin, t.lo2 = c.bounds.lower[2] - kSkin;
-    t.hi0 = c.bounds.upper[0] + kSkin, t.hi1 = c.bounds.upper[1] + kSkin, t.hi2 = c.bounds.upper[2] + kSkin;
+    tests[testCount++] = nearTest(c);
   }
+  return nearParticles({tests, testCount}, a0, b0, &radii[begin], count, list);
+}
+
+void ParticleSystem::collideObstacles(std::size_t begin, std::size_t end, const Real* previous,
+                                      const std::uint16_t* near, std::size_t nearCount) {
+  auto xs = pool_.positions();
+  auto vs = pool_.velocities();
+  const auto radii = pool_.radii();
+  const Real e = settings_.restitution, mu = settings_.friction,
+             threshold = settings_.restitutionThreshold;
+  // Most particles are far from every obstacle. A vectorised pass over the batch lists those
+  // whose swept box (inflated by the radius) may touch one; only they take the full path below.
+  const std::size_t count = end - begin;
+  const Real* a0 = previous ? previous : &xs[3 * begin];
+  const Real* b0 = &xs[3 * begin];
   std::uint16_t list[kBatch];
-  std::size_t listed = count;
-  if (all) {
-    for (std::size_t j = 0; j < count; ++j) list[j] = std::uint16_t(j);
-  } else {
-    listed = nearParticles({tests, testCount}, a0, b0, &radii[begin], count, list);
-  }
+  const std::uint16_t* todo = near ? near : list;
+  const std::size_t listed = near ? nearCount : nearList(begin, count, a0, b0, list);
   // The system's only plane, when there is one: particles near nothing else (most often, those
   // resting on the ground) take a short path that computes what the full one would.
   const ObstacleCache* plane = nullptr;
   if (planeCount_ == 1)
     for (const ObstacleCache& c : obstacleCache_)
       if (c.plane) plane = &c;
-  for (std::size_t l = 0; l < listed; ++l) {
-    const std::size_t i = begin + list[l];
+  // Those go through the kernels several at a time first (particles resting on the ground,
+  // landing on it or about to): the kernels leave in the list the particles that cross the
+  // plane twice in a step or come near another obstacle, for the scalar paths below.
+  std::size_t todoCount = listed;
+  const detail::ParticleIsa isa = detail::particleIsa();
+  if (plane && previous && isa != detail::ParticleIsa::Scalar &&
+      obstacleCache_.size() <= detail::kMaxParticleStepTests) {
+    Real boxes[6 * detail::kMaxParticleStepTests];
+    std::size_t boxCount = 0;
+    for (const ObstacleCache& c : obstacleCache_) {
+      if (c.plane) continue;
+      for (int k = 0; k < 3; ++k) {
+        boxes[6 * boxCount + k] = c.bounds.lower[k];
+        boxes[6 * boxCount + 3 + k] = c.bounds.upper[k];
+      }
+      ++boxCount;
+    }
+    todoCount = detail::settleParticlesOnPlane(isa, {.n0 = plane->normal.x(),
+                                                     .n1 = plane->normal.y(),
+                                                     .n2 = plane->normal.z(),
+                                                     .offset = plane->offset,
+                                                     .restitution = e,
+                                                     .friction = mu,
+                                                     .threshold = threshold,
+                                                     .skin = kSkin,
+                                                     .boxes = boxes,
+                                                     .boxCount = boxCount,
+                                                     .x = &xs[3 * begin],
+                                                     .v = &vs[3 * begin],
+                                                     .start = previous,
+                                                     .radius = &radii[begin],
+                                                     .list = todo,
+                                                     .listed = listed,
+                                                     .rest = list});
+    todo = list;
+  }
+  for (std::size_t l = 0; l < todoCount; ++l) {
+    const std::size_t i = begin + todo[l];
     Eigen::Map<Vec3> x(&xs[3 * i]);
     Eigen::Map<Vec3> v(&vs[3 * i]);
     const Real r = radii[i];

@@ -1,13 +1,16 @@
 // The particle system's fast paths against the general ones they stand for: the fused
 // symplectic Euler kernel against ode::step, the single-plane collision path against the full
-// obstacle loop. Both must give the same bits, not merely close values.
+// obstacle loop, and the kernels' SSE2 and AVX2 versions against the scalar one. All must give
+// the same bits, not merely close values.
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <cstring>
 #include <vector>
 
 #include "inertia/ode/step.h"
 #include "inertia/particles/particle_system.h"
+#include "particles/fast_path.h"
 
 using namespace inertia;
 
@@ -55,21 +58,44 @@ bool sameBytes(Span a, Span b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size_bytes()) == 0;
 }
 
+using detail::ParticleIsa;
+
 }  // namespace
 
-TEST(ParticleFastPaths, FusedSymplecticEulerIsTheOdeMethodBitForBit) {
-  // 5000 particles (3 batches, the last partial) under every built-in field kind and a user
-  // field: the system's fused kernel against ode::step(SymplecticEuler) over the whole pool
-  // with the same acceleration callback. Fields act per particle, so batching changes nothing.
-  const std::size_t n = 5000;
+namespace inertia::detail {
+// Names the instruction set in GoogleTest's messages.
+void PrintTo(ParticleIsa isa, std::ostream* os) { *os << particleIsaName(isa); }
+}  // namespace inertia::detail
+
+namespace {
+
+// Runs a test body with the kernels forced to one instruction set, restoring the choice after.
+class ParticleIsaTest : public testing::TestWithParam<ParticleIsa> {
+ protected:
+  void SetUp() override {
+    previous_ = detail::setParticleIsa(GetParam());
+    ASSERT_EQ(detail::particleIsa(), GetParam());
+  }
+  void TearDown() override { detail::setParticleIsa(previous_); }
+
+ private:
+  ParticleIsa previous_ = detail::bestParticleIsa();
+};
+
+std::string isaName(const testing::TestParamInfo<ParticleIsa>& info) {
+  return detail::particleIsaName(info.param);
+}
+
+// Steps a system and the same equations through ode::step(SymplecticEuler) over the whole pool
+// with the same acceleration callback, comparing the bits after every step.
+void expectFusedIsOdeMethod(const std::vector<ForceField>& fields, std::size_t n) {
   ParticleSystem ps({.capacity = n, .integrator = ode::Method::SymplecticEuler});
-  for (const ForceField& f : someFields()) ps.addField(f);
+  for (const ForceField& f : fields) ps.addField(f);
   std::uint64_t state = 7;
   for (std::size_t i = 0; i < n; ++i) ps.pool().add(randomParticle(state));
   std::vector<Real> x(ps.pool().positions().begin(), ps.pool().positions().end());
   std::vector<Real> v(ps.pool().velocities().begin(), ps.pool().velocities().end());
   std::vector<Real> m(ps.pool().masses().begin(), ps.pool().masses().end());
-  const std::vector<ForceField> fields = someFields();
   auto accel = [&](Real t, ode::ConstView<Real> xs, ode::ConstView<Real> vs, ode::View<Real> a) {
     a.setZero();
     applyFields(fields, FieldBatch{t,
@@ -92,13 +118,99 @@ TEST(ParticleFastPaths, FusedSymplecticEulerIsTheOdeMethodBitForBit) {
   }
 }
 
-TEST(ParticleFastPaths, SinglePlanePathIsTheFullObstacleLoopBitForBit) {
+// The benchmark's scene, small: gravity and linear drag (summed inside the kernel), a ground
+// plane and a sphere, particles raining onto both and settling, some dying on the way. 5003
+// particles: 3 batches, the last partial and not a multiple of any vector width. The ground
+// is tilted on both axes so that every term of the dot products counts (with a zero
+// component, a sum's order would not show). `pebbles` small spheres on the ground besides:
+// with more than kMaxParticleStepTests obstacles, the near filter leaves the kernel.
+ParticleSystem rainScene(int pebbles) {
+  ParticleSystem ps({.capacity = 5003, .restitution = Real(0.5), .friction = Real(0.1)});
+  ps.addField({GravityField{}});
+  ps.addField({LinearDragField{Real(1e-4)}});
+  ps.addObstacle(
+      {Collider(Shape(Plane{Vec3(Real(0.05), 1, Real(-0.03)).normalized(), 0})), Transform{}});
+  ps.addObstacle({Collider(Shape(Sphere{1})), Transform{Vec3(0, 1, 0), Quat::Identity()}});
+  for (int k = 0; k < pebbles; ++k)
+    ps.addObstacle({Collider(Shape(Sphere{Real(0.1)})),
+                    Transform{Vec3(Real(-1.8) + Real(0.3) * Real(k), Real(0.05), Real(1.5)),
+                              Quat::Identity()}});
+  std::uint64_t state = 12345;
+  auto next = [&] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return Real(double(state >> 11) * 0x1.0p-53);
+  };
+  for (std::size_t i = 0; i < ps.pool().capacity(); ++i) {
+    ParticlePool::Spawn s;
+    s.position = Vec3(4 * next() - 2, 3 * next() + Real(0.01), 4 * next() - 2);
+    s.velocity = Vec3(2 * next() - 1, 2 * next() - 1, 2 * next() - 1);
+    s.mass = Real(0.001) + Real(0.01) * next();
+    s.lifetime = i % 7 == 0 ? 1 + next() : std::numeric_limits<Real>::infinity();
+    s.radius = Real(0.02) * next();
+    ps.pool().add(s);
+  }
+  return ps;
+}
+
+}  // namespace
+
+TEST_P(ParticleIsaTest, FusedSymplecticEulerIsTheOdeMethodBitForBit) {
+  // 5000 particles (3 batches, the last partial) under every built-in field kind and a user
+  // field: the system's fused kernel (reading the fields' accelerations from a buffer) against
+  // ode::step(SymplecticEuler) over the whole pool with the same acceleration callback. Fields
+  // act per particle, so batching changes nothing.
+  expectFusedIsOdeMethod(someFields(), 5000);
+}
+
+TEST_P(ParticleIsaTest, FieldsSummedInTheKernelAreTheOdeMethodBitForBit) {
+  // Gravity and linear drag without regions are summed inside the kernel, in order from zero:
+  // a gravity after a drag, and two of each, exercise the order. 5001 particles: a tail of 1.
+  expectFusedIsOdeMethod({{LinearDragField{Real(0.02)}},
+                          {GravityField{}},
+                          {LinearDragField{Real(0.003)}},
+                          {GravityField{Vec3(Real(0.3), Real(-0.1), Real(0.7))}}},
+                         5001);
+  expectFusedIsOdeMethod({{GravityField{}}, {LinearDragField{Real(0.05)}}}, 4099);
+}
+
+TEST_P(ParticleIsaTest, EveryInstructionSetGivesTheScalarBits) {
+  // The benchmark's scene under the forced set against the same scene under the scalar
+  // kernels, at one and two threads: positions, velocities, ages and deaths to the bit. With
+  // 2 obstacles the kernel filters them, with 12 collideObstacles() does.
+  for (int pebbles : {0, 10}) {
+    ParticleSystem wide = rainScene(pebbles);
+    const ParticleIsa forced = detail::particleIsa();
+    detail::setParticleIsa(ParticleIsa::Scalar);
+    ParticleSystem scalar = rainScene(pebbles);
+    tbb::task_arena one(1), two(2);
+    for (int step = 0; step < 90; ++step) {
+      detail::setParticleIsa(forced);
+      wide.step(Real(1.0 / 60), step % 2 ? &two : &one);
+      detail::setParticleIsa(ParticleIsa::Scalar);
+      scalar.step(Real(1.0 / 60), &one);
+      ASSERT_EQ(wide.pool().size(), scalar.pool().size()) << "step " << step;
+      ASSERT_TRUE(sameBytes(wide.pool().positions(), scalar.pool().positions())) << "step " << step;
+      ASSERT_TRUE(sameBytes(wide.pool().velocities(), scalar.pool().velocities()))
+          << "step " << step;
+      ASSERT_TRUE(sameBytes(wide.pool().ages(), scalar.pool().ages())) << "step " << step;
+    }
+    detail::setParticleIsa(forced);
+    // The scene must reach the paths it is meant to cover: deaths, and particles on the ground.
+    EXPECT_LT(wide.pool().size(), wide.pool().capacity());
+    std::size_t settled = 0;
+    for (std::size_t i = 0; i < wide.pool().size(); ++i)
+      settled += wide.pool().position(i).y() < Real(0.05) ? 1 : 0;
+    EXPECT_GT(settled, wide.pool().size() / 2) << pebbles << " pebbles";
+  }
+}
+
+TEST_P(ParticleIsaTest, SinglePlanePathIsTheFullObstacleLoopBitForBit) {
   // The short path runs when a system has exactly one plane. The same system with the ground
   // plane given twice (one right after the other) takes the full loop everywhere; the duplicate
   // changes nothing there (its hit is never strictly earlier, and after the first one's push-out
   // the particle is r + skin away from it), so both must agree to the bit: bouncing, resting,
   // sliding, and near the sphere and the box.
-  auto make = [](bool twice) {
+  auto make = [](bool twice, const Vec3& normal) {
     ParticleSystem ps({.capacity = 6000, .restitution = Real(0.6), .friction = Real(0.3)});
     ps.addEmitter({.shape = EmitterShape::Sphere,
                    .pose = {Vec3(0, 2, 0), Quat::Identity()},
@@ -111,11 +223,8 @@ TEST(ParticleFastPaths, SinglePlanePathIsTheFullObstacleLoopBitForBit) {
                    .size = {Real(0.005), Real(0.05)},
                    .seed = 11});
     ps.addField({GravityField{}});
-    ps.addObstacle(
-        {Collider(Shape(Plane{Vec3(Real(0.1), 1, 0).normalized(), Real(-0.1)})), Transform{}});
-    if (twice)
-      ps.addObstacle(
-          {Collider(Shape(Plane{Vec3(Real(0.1), 1, 0).normalized(), Real(-0.1)})), Transform{}});
+    ps.addObstacle({Collider(Shape(Plane{normal, Real(-0.1)})), Transform{}});
+    if (twice) ps.addObstacle({Collider(Shape(Plane{normal, Real(-0.1)})), Transform{}});
     ps.addObstacle({Collider(Shape(Sphere{Real(0.4)})),
                     Transform{Vec3(Real(0.5), Real(0.3), 0), Quat::Identity()}});
     ps.addObstacle({Collider(Shape(Box{Vec3(Real(0.3), Real(0.2), Real(0.5))})),
@@ -123,13 +232,30 @@ TEST(ParticleFastPaths, SinglePlanePathIsTheFullObstacleLoopBitForBit) {
                               Quat(Eigen::AngleAxis<Real>(Real(0.4), Vec3::UnitY()))}});
     return ps;
   };
-  ParticleSystem fast = make(false), full = make(true);
-  for (int step = 0; step < 240; ++step) {
-    fast.step(Real(1.0 / 60));
-    full.step(Real(1.0 / 60));
-    ASSERT_EQ(fast.pool().size(), full.pool().size());
-    ASSERT_TRUE(sameBytes(fast.pool().positions(), full.pool().positions())) << "step " << step;
-    ASSERT_TRUE(sameBytes(fast.pool().velocities(), full.pool().velocities())) << "step " << step;
+  // Tilted about one axis, then about two (every term of the dot products non-zero, so that
+  // a sum in another order would show).
+  for (const Vec3& normal :
+       {Vec3(Real(0.1), 1, 0).normalized(), Vec3(Real(0.1), 1, Real(-0.07)).normalized()}) {
+    ParticleSystem fast = make(false, normal), full = make(true, normal);
+    for (int step = 0; step < 240; ++step) {
+      fast.step(Real(1.0 / 60));
+      full.step(Real(1.0 / 60));
+      ASSERT_EQ(fast.pool().size(), full.pool().size());
+      ASSERT_TRUE(sameBytes(fast.pool().positions(), full.pool().positions())) << "step " << step;
+      ASSERT_TRUE(sameBytes(fast.pool().velocities(), full.pool().velocities())) << "step " << step;
+    }
+    EXPECT_GT(fast.pool().size(), 3000u);
   }
-  EXPECT_GT(fast.pool().size(), 3000u);
 }
+
+// Every set this build and processor support (the double build and processors without AVX2
+// have fewer), so that no test runs a set it cannot force.
+std::vector<ParticleIsa> supportedIsas() {
+  std::vector<ParticleIsa> out;
+  for (ParticleIsa isa : {ParticleIsa::Scalar, ParticleIsa::Sse2, ParticleIsa::Avx2})
+    if (isa <= detail::bestParticleIsa()) out.push_back(isa);
+  return out;
+}
+
+INSTANTIATE_TEST_SUITE_P(ParticleFastPaths, ParticleIsaTest, testing::ValuesIn(supportedIsas()),
+                         isaName);

@@ -131,11 +131,14 @@ class ParticleSystem {
   struct Scratch;
   void integrate(Real h);
   void integrateCoupled(Real h);
-  void prefetchAhead(std::size_t batch, std::size_t element) const;
   /// Collides particles [begin, end) with the obstacles. `previous` holds their positions at
   /// the start of the step (3 Reals each, from `begin`) for the swept test, or is null for a
-  /// discrete test only.
-  void collideObstacles(std::size_t begin, std::size_t end, const Real* previous);
+  /// discrete test only. `near`, when given, lists (as offsets from `begin`, increasing) the
+  /// `nearCount` particles that may touch an obstacle, already found by the step's kernel.
+  void collideObstacles(std::size_t begin, std::size_t end, const Real* previous,
+                        const std::uint16_t* near = nullptr, std::size_t nearCount = 0);
+  std::size_t nearList(std::size_t begin, std::size_t count, const Real* start, const Real* end,
+                       std::uint16_t* list) const;
   void collideParticles();
   void resolveSprings();
   void springAccelerations(std::span<const Real> x, std::span<const Real> v,
