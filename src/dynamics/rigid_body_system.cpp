@@ -816,10 +816,14 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
       info.bodyB = D.bodyId(sb.body);
       info.shapeA = D.shapeId(a);
       info.shapeB = D.shapeId(b);
+      // A sphere's manifold is one point query (two spheres: their centres), cheaper than
+      // carrying one along.
       const bool cacheable = reuse && cs.speculativeDistance == tuning.speculativeDistance &&
                              singleManifold(sa.collider.type()) &&
-                             singleManifold(sb.collider.type());
-      const Transform relative = poseA.inverse() * poseB;
+                             singleManifold(sb.collider.type()) &&
+                             sa.collider.type() != ShapeType::Sphere &&
+                             sb.collider.type() != ShapeType::Sphere;
+      const Transform relative = cacheable ? poseA.inverse() * poseB : Transform{};
       if (cacheable) {
         // Last step's manifold of this pair, if its features still hold. The pairs and last
         // step's contacts are both sorted by shapes: one walk through the latter per chunk.
