@@ -641,7 +641,7 @@ void ParticleSystem::collideObstacles(std::size_t begin, std::size_t end, const 
   const Real* a0 = previous ? previous : &xs[3 * begin];
   const Real* b0 = &xs[3 * begin];
   std::uint16_t list[kBatch];
-  const std::uint16_t* todo = near ? near : list;
+  const std::uint16_t* pending = near ? near : list;
   const std::size_t listed = near ? nearCount : nearList(begin, count, a0, b0, list);
   // The system's only plane, when there is one: particles near nothing else (most often, those
   // resting on the ground) take a short path that computes what the full one would.
@@ -652,7 +652,7 @@ void ParticleSystem::collideObstacles(std::size_t begin, std::size_t end, const 
   // Those go through the kernels several at a time first (particles resting on the ground,
   // landing on it or about to): the kernels leave in the list the particles that cross the
   // plane twice in a step or come near another obstacle, for the scalar paths below.
-  std::size_t todoCount = listed;
+  std::size_t pendingCount = listed;
   const detail::ParticleIsa isa = detail::particleIsa();
   if (plane && previous && isa != detail::ParticleIsa::Scalar &&
       obstacleCache_.size() <= detail::kMaxParticleStepTests) {
@@ -666,7 +666,7 @@ void ParticleSystem::collideObstacles(std::size_t begin, std::size_t end, const 
       }
       ++boxCount;
     }
-    todoCount = detail::settleParticlesOnPlane(isa, {.n0 = plane->normal.x(),
+    pendingCount = detail::settleParticlesOnPlane(isa, {.n0 = plane->normal.x(),
                                                      .n1 = plane->normal.y(),
                                                      .n2 = plane->normal.z(),
                                                      .offset = plane->offset,
@@ -680,13 +680,13 @@ void ParticleSystem::collideObstacles(std::size_t begin, std::size_t end, const 
                                                      .v = &vs[3 * begin],
                                                      .start = previous,
                                                      .radius = &radii[begin],
-                                                     .list = todo,
+                                                     .list = pending,
                                                      .listed = listed,
                                                      .rest = list});
-    todo = list;
+    pending = list;
   }
-  for (std::size_t l = 0; l < todoCount; ++l) {
-    const std::size_t i = begin + todo[l];
+  for (std::size_t l = 0; l < pendingCount; ++l) {
+    const std::size_t i = begin + pending[l];
     Eigen::Map<Vec3> x(&xs[3 * i]);
     Eigen::Map<Vec3> v(&vs[3 * i]);
     const Real r = radii[i];
