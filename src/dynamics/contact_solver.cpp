@@ -262,7 +262,7 @@ void ContactBundles::build(const std::vector<ContactConstraint>& cs,
     total += sequential ? n : (n + kLanes - 1) / kLanes;
   }
   bundles_.assign(total, WideConstraint{});
-  std::vector<std::uint32_t> members;
+  std::vector<std::uint32_t>& members = members_;
   std::size_t next = 0;
   const Kernels& kernel = kernels();
   for (std::size_t g = 0; g < groups; ++g) {

@@ -211,6 +211,7 @@ class ContactBundles {
   std::vector<WideConstraint> bundles_;
   std::vector<std::uint32_t> groupOffsets_;  ///< Colour g is bundles_[offsets[g], offsets[g + 1]).
   bool overflow_ = false;                    ///< The last group runs in sequence.
+  std::vector<std::uint32_t> members_;       ///< Scratch of build(): one colour's constraints.
 };
 
 /// The instruction sets of the bundle kernels.
