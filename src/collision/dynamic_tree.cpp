@@ -58,10 +58,8 @@ void DynamicTree::freeNode(int id) {
   freeList_ = id;
 }
 
-void DynamicTree::requireProxy(int id, const char* what) const {
-  if (!isProxy(id))
-    throw InvalidArgument(std::string(what) + ": id " + std::to_string(id) +
-                          " is not a live proxy");
+void DynamicTree::throwNotAProxy(int id, const char* what) {
+  throw InvalidArgument(std::string(what) + ": id " + std::to_string(id) + " is not a live proxy");
 }
 
 int DynamicTree::createProxy(const Aabb& box, std::uint32_t userData) {
@@ -100,16 +98,6 @@ bool DynamicTree::moveProxy(int id, const Aabb& box, const Vec3& displacement) {
   nodes_[id].box = fat;
   insertLeaf(id);
   return true;
-}
-
-const Aabb& DynamicTree::fatAabb(int id) const {
-  requireProxy(id, "DynamicTree::fatAabb");
-  return nodes_[id].box;
-}
-
-std::uint32_t DynamicTree::userData(int id) const {
-  requireProxy(id, "DynamicTree::userData");
-  return nodes_[id].userData;
 }
 
 void DynamicTree::insertLeaf(int leaf) {

@@ -79,10 +79,16 @@ class DynamicTree {
   /// is reinserted and it returns true.
   bool moveProxy(int id, const Aabb& box, const Vec3& displacement);
 
-  /// The fat box of a live proxy (m).
-  const Aabb& fatAabb(int id) const;
+  /// The fat box of a live proxy (m). Inline, as the world reads it for every pair every step.
+  const Aabb& fatAabb(int id) const {
+    requireProxy(id, "DynamicTree::fatAabb");
+    return nodes_[static_cast<std::size_t>(id)].box;
+  }
   /// The user value of a live proxy.
-  std::uint32_t userData(int id) const;
+  std::uint32_t userData(int id) const {
+    requireProxy(id, "DynamicTree::userData");
+    return nodes_[static_cast<std::size_t>(id)].userData;
+  }
   /// True when `id` names a live proxy.
   bool isProxy(int id) const {
     return id >= 0 && id < static_cast<int>(nodes_.size()) && nodes_[id].isLeaf();
@@ -174,7 +180,11 @@ class DynamicTree {
   void insertLeaf(int leaf);
   void removeLeaf(int leaf);
   int balance(int a);
-  void requireProxy(int id, const char* what) const;
+  void requireProxy(int id, const char* what) const {
+    if (!isProxy(id)) [[unlikely]]
+      throwNotAProxy(id, what);
+  }
+  [[noreturn]] static void throwNotAProxy(int id, const char* what);
 
   DynamicTreeSettings settings_;
   std::vector<Node> nodes_;
