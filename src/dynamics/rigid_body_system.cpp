@@ -845,13 +845,12 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
               p.separation = (p.pointB - p.pointA).dot(m.normal);
             }
             out.contacts.push_back(info);
-            ContactExtra e;
+            ContactExtra& e = out.extras.emplace_back();
             e.reusable = true;
             e.relative = pe.relative;
             e.localNormal = pe.localNormal;
             e.localA = pe.localA;
             e.localB = pe.localB;
-            out.extras.push_back(e);
             continue;
           }
         }
@@ -862,7 +861,7 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
         if (m.pointCount == 0) continue;
         info.manifold = m;
         out.contacts.push_back(info);
-        ContactExtra e;
+        ContactExtra& e = out.extras.emplace_back();
         if (cacheable) {
           e.reusable = true;
           e.relative = relative;
@@ -873,7 +872,6 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
             e.localB[static_cast<std::size_t>(k)] = poseB.applyInverse(p.pointB);
           }
         }
-        out.extras.push_back(e);
       }
     }
   };
