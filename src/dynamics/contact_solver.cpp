@@ -43,20 +43,15 @@ std::array<Vec3, 2> tangentBasis(const Vec3& n) {
 
 void computeMasses(ContactConstraint& c, const SolverBody& a, const SolverBody& b) {
   const Real mSum = a.invMass + b.invMass;
+  // 1 / (mA + mB + (rA x d) . IA (rA x d) + (rB x d) . IB (rB x d)) along direction d.
+  auto rowMass = [&](const ConstraintPoint& p, const Vec3& d) {
+    const Vec3 rdA = p.rA.cross(d), rdB = p.rB.cross(d);
+    return invEffective(mSum + rdA.dot(a.invInertia * rdA) + rdB.dot(b.invInertia * rdB));
+  };
   for (int i = 0; i < c.pointCount; ++i) {
     ConstraintPoint& p = c.points[static_cast<std::size_t>(i)];
-    p.rnA = p.rA.cross(c.normal);
-    p.rnB = p.rB.cross(c.normal);
-    p.wnA = a.invInertia * p.rnA;
-    p.wnB = b.invInertia * p.rnB;
-    p.normalMass = invEffective(mSum + p.rnA.dot(p.wnA) + p.rnB.dot(p.wnB));
-    for (std::size_t k = 0; k < 2; ++k) {
-      p.rtA[k] = p.rA.cross(c.tangent[k]);
-      p.rtB[k] = p.rB.cross(c.tangent[k]);
-      p.wtA[k] = a.invInertia * p.rtA[k];
-      p.wtB[k] = b.invInertia * p.rtB[k];
-      p.tangentMass[k] = invEffective(mSum + p.rtA[k].dot(p.wtA[k]) + p.rtB[k].dot(p.wtB[k]));
-    }
+    p.normalMass = rowMass(p, c.normal);
+    for (std::size_t k = 0; k < 2; ++k) p.tangentMass[k] = rowMass(p, c.tangent[k]);
   }
   const Mat3 iSum = a.invInertia + b.invInertia;
   for (int k = 0; k < 2; ++k) c.rollingMass[k] = invEffective(c.tangent[k].dot(iSum * c.tangent[k]));

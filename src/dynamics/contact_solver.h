@@ -52,17 +52,6 @@ struct ConstraintPoint {
   std::array<Real, 2> tangentImpulse{};
   Real maxNormalImpulse = 0;
   Real relativeVelocity = 0;  ///< Normal velocity at the step's start (m/s), for restitution.
-  // The rows' angular Jacobians and their images under the inverse inertias, fixed for the
-  // step (anchors and inertia are frozen at its start), so an iteration applies an impulse with
-  // a few scaled additions instead of cross products and matrix products.
-  Vec3 rnA = Vec3::Zero();  ///< rA x n
-  Vec3 rnB = Vec3::Zero();  ///< rB x n
-  Vec3 wnA = Vec3::Zero();  ///< invIA (rA x n)
-  Vec3 wnB = Vec3::Zero();  ///< invIB (rB x n)
-  std::array<Vec3, 2> rtA{Vec3::Zero(), Vec3::Zero()};  ///< rA x t_k
-  std::array<Vec3, 2> rtB{Vec3::Zero(), Vec3::Zero()};
-  std::array<Vec3, 2> wtA{Vec3::Zero(), Vec3::Zero()};  ///< invIA (rA x t_k)
-  std::array<Vec3, 2> wtB{Vec3::Zero(), Vec3::Zero()};
 };
 
 struct ContactConstraint {
@@ -89,8 +78,9 @@ struct ContactConstraint {
 /// for nearby normals except across n.z = 0's sign.
 std::array<Vec3, 2> tangentBasis(const Vec3& n);
 
-/// Effective masses and angular Jacobians of the rows of `c` from its bodies (anchors, normal
-/// and tangents already set).
+/// Effective masses of the rows of `c` from its bodies (anchors, normal and tangents already
+/// set), for the LCP solvers. The bundles compute their own, with the Jacobians
+/// (ContactBundles::build).
 void computeMasses(ContactConstraint& c, const SolverBody& a, const SolverBody& b);
 
 /// The constraints grouped by colour (graph colouring, as Box2D v3): no two constraints of a
