@@ -107,6 +107,7 @@ struct ShapeRecord {
   std::uint32_t body = 0;
   Collider collider{Shape(Sphere{1})};
   Transform local;
+  bool atOrigin = true;  // local is the identity
   Material material;
   int proxy = DynamicTree::kNull;  // none for planes
 };
@@ -259,7 +260,11 @@ struct RigidBodySystem::Data {
   }
   BodyId bodyId(std::uint32_t i) const { return {i, bodies[i].generation}; }
   ShapeId shapeId(std::uint32_t i) const { return {i, shapes[i].generation}; }
-  Transform shapePose(const ShapeRecord& s) const { return bodies[s.body].pose * s.local; }
+  // Most shapes sit at their body's origin: their pose is the body's, bit for bit, without
+  // composing (the narrow phase asks twice per pair).
+  Transform shapePose(const ShapeRecord& s) const {
+    return s.atOrigin ? bodies[s.body].pose : bodies[s.body].pose * s.local;
+  }
 
   void updateMass(BodyRecord& b);
   void refreshProxies(BodyRecord& b);
@@ -450,6 +455,7 @@ ShapeId RigidBodySystem::addShape(BodyId bodyId, const Collider& collider,
   s.body = bodyId.index;
   s.collider = collider;
   s.local = {local.p, local.q.normalized()};
+  s.atOrigin = s.local.p == Vec3::Zero() && s.local.q.coeffs() == Quat::Identity().coeffs();
   s.material = material;
   s.proxy = DynamicTree::kNull;
   if (type == ShapeType::Plane) {
