@@ -235,6 +235,19 @@ struct RigidBodySystem::Data {
   std::vector<std::uint32_t> solverToBody;
   std::vector<Quat> startRotation;  // per solver body
   std::vector<Vec3> startCom;
+  // Per solver body, what a substep's velocity and position updates need from its record, so
+  // that the substeps read a small array instead of the bodies' large records.
+  struct SubstepMotion {
+    Vec3 dv = Vec3::Zero();  // h (gravity + force / m)
+    Vec3 dw = Vec3::Zero();  // h I^-1 torque
+    Real linearFactor = 1;   // 1 / (1 + h linear damping)
+    Real angularFactor = 1;
+    Real maxLinearSpeed = 0;
+    Real maxAngularSpeed = 0;
+    bool dynamic = false;
+    bool gyroscopic = false;  // not c * identity: the implicit gyroscopic step applies
+  };
+  std::vector<SubstepMotion> motion;
   std::vector<std::uint32_t> island;  // union-find parents per body slot
   std::vector<std::uint8_t> islandAwake;
   std::vector<Real> islandSleep;
@@ -1099,23 +1112,36 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
   detail::BiasMode relax = mode;
   relax.useBias = false;
   double integrationTime = 0;
+  D.motion.resize(D.solverBodies.size());
+  for (std::size_t k = 0; k < D.solverBodies.size(); ++k) {
+    const BodyRecord& b = D.bodies[D.solverToBody[k]];
+    Data::SubstepMotion& m = D.motion[k];
+    m.dynamic = b.type == BodyType::Dynamic;
+    m.dv = h * (b.gravityScale * s.gravity + b.invMass * b.force);
+    m.dw = h * (D.solverBodies[k].invInertia * b.torque);
+    m.linearFactor = 1 / (1 + h * b.linearDamping);
+    m.angularFactor = 1 / (1 + h * b.angularDamping);
+    m.maxLinearSpeed = b.maxLinearSpeed;
+    m.maxAngularSpeed = b.maxAngularSpeed;
+    // w x (I w) vanishes for a sphere's or a cube's inertia (c * identity); the implicit step
+    // would only add its rounding.
+    m.gyroscopic = !b.isotropic;
+  }
   for (int sub = 0; sub < s.substeps; ++sub) {
     auto ti = Clock::now();
     // Velocities of the constrained bodies: gravity, forces, damping, implicit gyroscopic term.
     for (std::size_t k = 0; k < D.solverBodies.size(); ++k) {
-      const BodyRecord& b = D.bodies[D.solverToBody[k]];
+      const Data::SubstepMotion& m = D.motion[k];
       SolverBody& sb = D.solverBodies[k];
-      if (b.type != BodyType::Dynamic) continue;
-      sb.v += h * (b.gravityScale * s.gravity + b.invMass * b.force);
-      sb.v *= 1 / (1 + h * b.linearDamping);
-      sb.w += h * (sb.invInertia * b.torque);
-      // w x (I w) vanishes for a sphere's or a cube's inertia (c * identity); the implicit
-      // step would only add its rounding.
-      if (!b.isotropic) {
+      if (!m.dynamic) continue;
+      sb.v += m.dv;
+      sb.v *= m.linearFactor;
+      sb.w += m.dw;
+      if (m.gyroscopic) {
         const Quat q = (sb.dq * D.startRotation[k]).normalized();
-        sb.w = detail::implicitGyroscopic(q, b.inertiaLocal, sb.w, h);
+        sb.w = detail::implicitGyroscopic(q, D.bodies[D.solverToBody[k]].inertiaLocal, sb.w, h);
       }
-      sb.w *= 1 / (1 + h * b.angularDamping);
+      sb.w *= m.angularFactor;
     }
     integrationTime += std::chrono::duration<double>(Clock::now() - ti).count();
     if (lcp) {
@@ -1131,12 +1157,12 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
     }
     ti = Clock::now();
     for (std::size_t k = 0; k < D.solverBodies.size(); ++k) {
-      const BodyRecord& b = D.bodies[D.solverToBody[k]];
+      const Data::SubstepMotion& m = D.motion[k];
       SolverBody& sb = D.solverBodies[k];
       const Real vn = sb.v.norm();
-      if (vn > b.maxLinearSpeed) sb.v *= b.maxLinearSpeed / vn;
+      if (vn > m.maxLinearSpeed) sb.v *= m.maxLinearSpeed / vn;
       const Real wn = sb.w.norm();
-      if (wn > b.maxAngularSpeed) sb.w *= b.maxAngularSpeed / wn;
+      if (wn > m.maxAngularSpeed) sb.w *= m.maxAngularSpeed / wn;
       sb.dp += h * sb.v;
       sb.dq = integrateRotation(sb.dq, sb.w, h);
       sb.dR = sb.dq.toRotationMatrix();
