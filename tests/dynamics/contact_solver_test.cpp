@@ -291,17 +291,25 @@ void expectSameBits(const std::vector<SolverBody>& a, const std::vector<SolverBo
     EXPECT_EQ(ca[k].spinningImpulse, cb[k].spinningImpulse) << "constraint " << k;
   }
 }
+// A random graph (randomGraph) and its colouring.
+struct ColoredGraph {
+  std::vector<SolverBody> start;
+  std::vector<ContactConstraint> cs;
+  ConstraintColoring col;
+};
+ColoredGraph coloredGraph(std::uint64_t seed, int bodyCount, int count) {
+  std::mt19937_64 rng(seed);
+  ColoredGraph g;
+  randomGraph(rng, bodyCount, count, g.start, g.cs);
+  colorConstraints(g.cs, g.start, g.col);
+  return g;
+}
 }  // namespace
 
 // The coloured passes give the same bytes on 1 and 4 threads (and without an arena): the
 // result cannot depend on how a colour is split into tasks.
 TEST(ContactSolver, ColoredPassesAreIndependentOfThreads) {
-  std::mt19937_64 rng(12);
-  std::vector<SolverBody> start;
-  std::vector<ContactConstraint> cs0;
-  randomGraph(rng, 2000, 6000, start, cs0);
-  ConstraintColoring col;
-  colorConstraints(cs0, start, col);
+  const auto [start, cs0, col] = coloredGraph(12, 2000, 6000);
   tbb::task_arena one(1), four(4);
   std::vector<ContactConstraint> c0 = cs0, c1 = cs0, c4 = cs0;
   const std::vector<SolverBody> a = bundledPasses(c0, start, col, nullptr);
@@ -318,12 +326,7 @@ TEST(ContactSolver, ColoredPassesAreIndependentOfThreads) {
 // static and kinematic bodies, restitution, rolling and spinning friction in some lanes). A
 // lane reading or writing another's body, or a padding lane pushing, would change them.
 TEST(ContactSolver, BundledLanesEqualConstraintsSolvedOneByOne) {
-  std::mt19937_64 rng(13);
-  std::vector<SolverBody> start;
-  std::vector<ContactConstraint> cs0;
-  randomGraph(rng, 300, 700, start, cs0);
-  ConstraintColoring col;
-  colorConstraints(cs0, start, col);
+  const auto [start, cs0, col] = coloredGraph(13, 300, 700);
   ASSERT_FALSE(col.overflow);
 
   std::vector<ContactConstraint> bundled = cs0;
@@ -362,12 +365,7 @@ TEST(ContactSolver, BundledLanesEqualConstraintsSolvedOneByOne) {
 // The AVX2 kernels give the SSE2 kernels' bits (lane-wise IEEE arithmetic without fused
 // multiply-adds). On a processor without AVX2 both runs use SSE2.
 TEST(ContactSolver, Avx2AndSse2KernelsGiveTheSameBits) {
-  std::mt19937_64 rng(14);
-  std::vector<SolverBody> start;
-  std::vector<ContactConstraint> cs0;
-  randomGraph(rng, 300, 700, start, cs0);
-  ConstraintColoring col;
-  colorConstraints(cs0, start, col);
+  const auto [start, cs0, col] = coloredGraph(14, 300, 700);
   const SimdLevel best = bestSimdLevel();
   std::vector<ContactConstraint> c1 = cs0, c2 = cs0;
   setSimdLevel(SimdLevel::Sse2);
