@@ -129,14 +129,14 @@ constexpr Kernels kAvx2{avx2::prepareBundle, avx2::warmStartRange, avx2::solveRa
                         avx2::restitutionRange};
 #endif
 
-SimdLevel& currentLevel() {
-  static SimdLevel level = bestSimdLevel();
-  return level;
+SimdChoice& contactChoice() {
+  static SimdChoice choice(std::max(cpuSimdLevel(), SimdLevel::Sse2));
+  return choice;
 }
 
 const Kernels& kernels() {
 #ifdef INERTIA_HAVE_AVX2_KERNELS
-  if (currentLevel() == SimdLevel::Avx2) return kAvx2;
+  if (contactChoice().current() == SimdLevel::Avx2) return kAvx2;
 #endif
   return kSse2;
 }
@@ -230,17 +230,10 @@ void packLane(WideConstraint& w, WideInertia& inertia, int l, const ContactConst
 
 }  // namespace
 
-SimdLevel bestSimdLevel() {
-#ifdef INERTIA_HAVE_AVX2_KERNELS
-  if (__builtin_cpu_supports("avx2")) return SimdLevel::Avx2;
-#endif
-  return SimdLevel::Sse2;
-}
-
-SimdLevel simdLevel() { return currentLevel(); }
-
-void setSimdLevel(SimdLevel level) {
-  currentLevel() = level == SimdLevel::Avx2 ? bestSimdLevel() : SimdLevel::Sse2;
+SimdLevel bestContactSimd() { return contactChoice().best(); }
+SimdLevel contactSimd() { return contactChoice().current(); }
+SimdLevel setContactSimd(SimdLevel level) {
+  return contactChoice().force(std::max(level, SimdLevel::Sse2));
 }
 
 void ContactBundles::build(const std::vector<ContactConstraint>& cs,

@@ -19,6 +19,7 @@
 
 #include <tbb/task_arena.h>
 
+#include "core/simd.h"
 #include "inertia/core/types.h"
 
 namespace inertia::detail {
@@ -204,14 +205,14 @@ class ContactBundles {
   std::vector<std::uint32_t> members_;       ///< Scratch of build(): one colour's constraints.
 };
 
-/// The instruction sets of the bundle kernels.
-enum class SimdLevel { Sse2, Avx2 };
-/// The best the processor has (Sse2 off x86, where the kernels use GCC's generic vectors).
-SimdLevel bestSimdLevel();
-/// The level the kernels use: bestSimdLevel() unless a test lowered it (not thread-safe: for
-/// tests).
-SimdLevel simdLevel();
-void setSimdLevel(SimdLevel level);
+/// The set the bundle kernels can use: AVX2 when the processor has it, else SSE2 (GCC's
+/// generic 16-byte vectors off x86).
+SimdLevel bestContactSimd();
+/// The set the kernels use: bestContactSimd() unless a test forced SSE2.
+SimdLevel contactSimd();
+/// Forces the set (clamped to bestContactSimd(), and at least SSE2); returns the previous one.
+/// For tests; not while a step runs.
+SimdLevel setContactSimd(SimdLevel level);
 
 // The same passes on constraints one at a time in the order of `cs` (for the LCP solvers'
 // fallback and for tests): each packs `cs` one constraint per bundle, runs, and stores back.

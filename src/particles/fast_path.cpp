@@ -1,7 +1,6 @@
 #include "fast_path.h"
 
 #include <algorithm>
-#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -276,58 +275,32 @@ inline void prefetch(const float* p) {
 }  // namespace avx2
 #endif
 
-ParticleIsa detectIsa() {
-#if INERTIA_PARTICLES_VECTOR
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx2") ? ParticleIsa::Avx2 : ParticleIsa::Sse2;
-#else
-  return ParticleIsa::Scalar;
-#endif
-}
-
-std::atomic<int> forcedIsa{-1};  // -1: none
-
 }  // namespace
 
-ParticleIsa bestParticleIsa() {
-  static const ParticleIsa best = detectIsa();
-  return best;
+SimdChoice& particleChoice() {
+#if INERTIA_PARTICLES_VECTOR
+  static SimdChoice choice(cpuSimdLevel());
+#else
+  static SimdChoice choice(SimdLevel::Scalar);
+#endif
+  return choice;
 }
 
-ParticleIsa particleIsa() {
-  const int forced = forcedIsa.load(std::memory_order_relaxed);
-  return forced < 0 ? bestParticleIsa() : ParticleIsa(forced);
-}
+SimdLevel bestParticleSimd() { return particleChoice().best(); }
+SimdLevel particleSimd() { return particleChoice().current(); }
+SimdLevel setParticleSimd(SimdLevel isa) { return particleChoice().force(isa); }
 
-ParticleIsa setParticleIsa(ParticleIsa isa) {
-  const ParticleIsa previous = particleIsa();
-  forcedIsa.store(int(std::min(isa, bestParticleIsa())), std::memory_order_relaxed);
-  return previous;
-}
-
-const char* particleIsaName(ParticleIsa isa) {
-  switch (isa) {
-    case ParticleIsa::Scalar:
-      return "scalar";
-    case ParticleIsa::Sse2:
-      return "SSE2";
-    case ParticleIsa::Avx2:
-      return "AVX2";
-  }
-  return "?";
-}
-
-ParticleStepCounts stepParticleBatch(ParticleIsa isa, const ParticleStepBatch& batch) {
+ParticleStepCounts stepParticleBatch(SimdLevel isa, const ParticleStepBatch& batch) {
   ParticleStepCounts counts;
-  if (isa == ParticleIsa::Scalar) {
+  if (isa == SimdLevel::Scalar) {
     scalar::stepLoops(batch, counts);
     return counts;
   }
   std::size_t i = 0;
 #if INERTIA_PARTICLES_VECTOR
-  if (isa == ParticleIsa::Avx2)
+  if (isa == SimdLevel::Avx2)
     i = avx2::stepRange(batch, i, counts);
-  else if (isa == ParticleIsa::Sse2)
+  else if (isa == SimdLevel::Sse2)
     i = sse2::stepRange(batch, i, counts);
 #else
   (void)isa;
@@ -336,10 +309,10 @@ ParticleStepCounts stepParticleBatch(ParticleIsa isa, const ParticleStepBatch& b
   return counts;
 }
 
-std::size_t settleParticlesOnPlane(ParticleIsa isa, const ParticlePlaneSettle& settle) {
+std::size_t settleParticlesOnPlane(SimdLevel isa, const ParticlePlaneSettle& settle) {
 #if INERTIA_PARTICLES_VECTOR
-  if (isa == ParticleIsa::Avx2) return avx2::settleRange(settle);
-  if (isa == ParticleIsa::Sse2) return sse2::settleRange(settle);
+  if (isa == SimdLevel::Avx2) return avx2::settleRange(settle);
+  if (isa == SimdLevel::Sse2) return sse2::settleRange(settle);
 #else
   (void)isa;
 #endif

@@ -10,21 +10,18 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "core/simd.h"
 #include "inertia/core/types.h"
 
 namespace inertia::detail {
 
-/// Instruction sets of the particle kernels, in increasing order of width.
-enum class ParticleIsa : std::uint8_t { Scalar, Sse2, Avx2 };
-
-/// The widest set this build and this processor support (SSE2 and AVX2 for float only).
-ParticleIsa bestParticleIsa();
-/// The set the step uses: bestParticleIsa() unless a test forced another.
-ParticleIsa particleIsa();
-/// Forces the set the next steps use, clamped to bestParticleIsa(); returns the previous one.
+/// The set the particle kernels can use: cpuSimdLevel() for float, scalar for double.
+SimdLevel bestParticleSimd();
+/// The set the step uses: bestParticleSimd() unless a test forced another.
+SimdLevel particleSimd();
+/// Forces the set the next steps use, clamped to bestParticleSimd(); returns the previous one.
 /// For tests comparing the versions bit for bit; not thread-safe against a running step.
-ParticleIsa setParticleIsa(ParticleIsa isa);
-const char* particleIsaName(ParticleIsa isa);
+SimdLevel setParticleSimd(SimdLevel isa);
 
 /// One obstacle as the near test sees it: a plane (normal n, offset, skin included) or a world
 /// box (inflated by the skin).
@@ -76,7 +73,7 @@ struct ParticleStepBatch {
 struct ParticleStepCounts {
   std::size_t deaths = 0, listed = 0;
 };
-ParticleStepCounts stepParticleBatch(ParticleIsa isa, const ParticleStepBatch& batch);
+ParticleStepCounts stepParticleBatch(SimdLevel isa, const ParticleStepBatch& batch);
 
 /// Listed particles of a batch against the system's only plane, when they meet nothing else:
 /// ParticleSystem::collidePlaneOnly for particles resting on the plane, landing on it or about
@@ -98,6 +95,6 @@ struct ParticlePlaneSettle {
 };
 /// Returns the number of particles written to `rest` (in increasing order). The scalar set
 /// settles none: all go to `rest`.
-std::size_t settleParticlesOnPlane(ParticleIsa isa, const ParticlePlaneSettle& settle);
+std::size_t settleParticlesOnPlane(SimdLevel isa, const ParticlePlaneSettle& settle);
 
 }  // namespace inertia::detail

@@ -365,7 +365,7 @@ void ParticleSystem::integrate(Real h) {
   // summed inside the kernel; other fields are evaluated into a batch buffer first by the same
   // applyFields() the ode layer's callback calls. The other methods go through ode::step.
   const bool fused = !coupled && settings_.integrator == ode::Method::SymplecticEuler;
-  const detail::ParticleIsa isa = detail::particleIsa();
+  const detail::SimdLevel isa = detail::particleSimd();
   detail::ParticleFieldTerm terms[detail::kMaxParticleTerms];
   std::size_t termCount = 0;
   bool inKernel = fields_.size() <= detail::kMaxParticleTerms;
@@ -653,8 +653,8 @@ void ParticleSystem::collideObstacles(std::size_t begin, std::size_t end, const 
   // landing on it or about to): the kernels leave in the list the particles that cross the
   // plane twice in a step or come near another obstacle, for the scalar paths below.
   std::size_t pendingCount = listed;
-  const detail::ParticleIsa isa = detail::particleIsa();
-  if (plane && previous && isa != detail::ParticleIsa::Scalar &&
+  const detail::SimdLevel isa = detail::particleSimd();
+  if (plane && previous && isa != detail::SimdLevel::Scalar &&
       obstacleCache_.size() <= detail::kMaxParticleStepTests) {
     Real boxes[6 * detail::kMaxParticleStepTests];
     std::size_t boxCount = 0;

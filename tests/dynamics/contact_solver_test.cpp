@@ -366,13 +366,13 @@ TEST(ContactSolver, BundledLanesEqualConstraintsSolvedOneByOne) {
 // multiply-adds). On a processor without AVX2 both runs use SSE2.
 TEST(ContactSolver, Avx2AndSse2KernelsGiveTheSameBits) {
   const auto [start, cs0, col] = coloredGraph(14, 300, 700);
-  const SimdLevel best = bestSimdLevel();
+  const SimdLevel best = bestContactSimd();
   std::vector<ContactConstraint> c1 = cs0, c2 = cs0;
-  setSimdLevel(SimdLevel::Sse2);
-  EXPECT_EQ(simdLevel(), SimdLevel::Sse2);
+  setContactSimd(SimdLevel::Sse2);
+  EXPECT_EQ(contactSimd(), SimdLevel::Sse2);
   const std::vector<SolverBody> a = bundledPasses(c1, start, col, nullptr);
-  setSimdLevel(best);
-  EXPECT_EQ(simdLevel(), best);
+  setContactSimd(best);
+  EXPECT_EQ(contactSimd(), best);
   const std::vector<SolverBody> b = bundledPasses(c2, start, col, nullptr);
   expectSameBits(a, b, c1, c2);
 }

@@ -58,32 +58,32 @@ bool sameBytes(Span a, Span b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size_bytes()) == 0;
 }
 
-using detail::ParticleIsa;
+using detail::SimdLevel;
 
 }  // namespace
 
 namespace inertia::detail {
 // Names the instruction set in GoogleTest's messages.
-void PrintTo(ParticleIsa isa, std::ostream* os) { *os << particleIsaName(isa); }
+void PrintTo(SimdLevel isa, std::ostream* os) { *os << simdLevelName(isa); }
 }  // namespace inertia::detail
 
 namespace {
 
 // Runs a test body with the kernels forced to one instruction set, restoring the choice after.
-class ParticleIsaTest : public testing::TestWithParam<ParticleIsa> {
+class ParticleSimdTest : public testing::TestWithParam<SimdLevel> {
  protected:
   void SetUp() override {
-    previous_ = detail::setParticleIsa(GetParam());
-    ASSERT_EQ(detail::particleIsa(), GetParam());
+    previous_ = detail::setParticleSimd(GetParam());
+    ASSERT_EQ(detail::particleSimd(), GetParam());
   }
-  void TearDown() override { detail::setParticleIsa(previous_); }
+  void TearDown() override { detail::setParticleSimd(previous_); }
 
  private:
-  ParticleIsa previous_ = detail::bestParticleIsa();
+  SimdLevel previous_ = detail::bestParticleSimd();
 };
 
-std::string isaName(const testing::TestParamInfo<ParticleIsa>& info) {
-  return detail::particleIsaName(info.param);
+std::string isaName(const testing::TestParamInfo<SimdLevel>& info) {
+  return detail::simdLevelName(info.param);
 }
 
 // Steps a system and the same equations through ode::step(SymplecticEuler) over the whole pool
@@ -154,7 +154,7 @@ ParticleSystem rainScene(int pebbles) {
 
 }  // namespace
 
-TEST_P(ParticleIsaTest, FusedSymplecticEulerIsTheOdeMethodBitForBit) {
+TEST_P(ParticleSimdTest, FusedSymplecticEulerIsTheOdeMethodBitForBit) {
   // 5000 particles (3 batches, the last partial) under every built-in field kind and a user
   // field: the system's fused kernel (reading the fields' accelerations from a buffer) against
   // ode::step(SymplecticEuler) over the whole pool with the same acceleration callback. Fields
@@ -162,7 +162,7 @@ TEST_P(ParticleIsaTest, FusedSymplecticEulerIsTheOdeMethodBitForBit) {
   expectFusedIsOdeMethod(someFields(), 5000);
 }
 
-TEST_P(ParticleIsaTest, FieldsSummedInTheKernelAreTheOdeMethodBitForBit) {
+TEST_P(ParticleSimdTest, FieldsSummedInTheKernelAreTheOdeMethodBitForBit) {
   // Gravity and linear drag without regions are summed inside the kernel, in order from zero:
   // a gravity after a drag, and two of each, exercise the order. 5001 particles: a tail of 1.
   expectFusedIsOdeMethod({{LinearDragField{Real(0.02)}},
@@ -173,20 +173,20 @@ TEST_P(ParticleIsaTest, FieldsSummedInTheKernelAreTheOdeMethodBitForBit) {
   expectFusedIsOdeMethod({{GravityField{}}, {LinearDragField{Real(0.05)}}}, 4099);
 }
 
-TEST_P(ParticleIsaTest, EveryInstructionSetGivesTheScalarBits) {
+TEST_P(ParticleSimdTest, EveryInstructionSetGivesTheScalarBits) {
   // The benchmark's scene under the forced set against the same scene under the scalar
   // kernels, at one and two threads: positions, velocities, ages and deaths to the bit. With
   // 2 obstacles the kernel filters them, with 12 collideObstacles() does.
   for (int pebbles : {0, 10}) {
     ParticleSystem wide = rainScene(pebbles);
-    const ParticleIsa forced = detail::particleIsa();
-    detail::setParticleIsa(ParticleIsa::Scalar);
+    const SimdLevel forced = detail::particleSimd();
+    detail::setParticleSimd(SimdLevel::Scalar);
     ParticleSystem scalar = rainScene(pebbles);
     tbb::task_arena one(1), two(2);
     for (int step = 0; step < 90; ++step) {
-      detail::setParticleIsa(forced);
+      detail::setParticleSimd(forced);
       wide.step(Real(1.0 / 60), step % 2 ? &two : &one);
-      detail::setParticleIsa(ParticleIsa::Scalar);
+      detail::setParticleSimd(SimdLevel::Scalar);
       scalar.step(Real(1.0 / 60), &one);
       ASSERT_EQ(wide.pool().size(), scalar.pool().size()) << "step " << step;
       ASSERT_TRUE(sameBytes(wide.pool().positions(), scalar.pool().positions())) << "step " << step;
@@ -194,7 +194,7 @@ TEST_P(ParticleIsaTest, EveryInstructionSetGivesTheScalarBits) {
           << "step " << step;
       ASSERT_TRUE(sameBytes(wide.pool().ages(), scalar.pool().ages())) << "step " << step;
     }
-    detail::setParticleIsa(forced);
+    detail::setParticleSimd(forced);
     // The scene must reach the paths it is meant to cover: deaths, and particles on the ground.
     EXPECT_LT(wide.pool().size(), wide.pool().capacity());
     std::size_t settled = 0;
@@ -204,7 +204,7 @@ TEST_P(ParticleIsaTest, EveryInstructionSetGivesTheScalarBits) {
   }
 }
 
-TEST_P(ParticleIsaTest, SinglePlanePathIsTheFullObstacleLoopBitForBit) {
+TEST_P(ParticleSimdTest, SinglePlanePathIsTheFullObstacleLoopBitForBit) {
   // The short path runs when a system has exactly one plane. The same system with the ground
   // plane given twice (one right after the other) takes the full loop everywhere; the duplicate
   // changes nothing there (its hit is never strictly earlier, and after the first one's push-out
@@ -250,12 +250,12 @@ TEST_P(ParticleIsaTest, SinglePlanePathIsTheFullObstacleLoopBitForBit) {
 
 // Every set this build and processor support (the double build and processors without AVX2
 // have fewer), so that no test runs a set it cannot force.
-std::vector<ParticleIsa> supportedIsas() {
-  std::vector<ParticleIsa> out;
-  for (ParticleIsa isa : {ParticleIsa::Scalar, ParticleIsa::Sse2, ParticleIsa::Avx2})
-    if (isa <= detail::bestParticleIsa()) out.push_back(isa);
+std::vector<SimdLevel> supportedIsas() {
+  std::vector<SimdLevel> out;
+  for (SimdLevel isa : {SimdLevel::Scalar, SimdLevel::Sse2, SimdLevel::Avx2})
+    if (isa <= detail::bestParticleSimd()) out.push_back(isa);
   return out;
 }
 
-INSTANTIATE_TEST_SUITE_P(ParticleFastPaths, ParticleIsaTest, testing::ValuesIn(supportedIsas()),
+INSTANTIATE_TEST_SUITE_P(ParticleFastPaths, ParticleSimdTest, testing::ValuesIn(supportedIsas()),
                          isaName);
