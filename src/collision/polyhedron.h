@@ -98,11 +98,14 @@ inline constexpr Real kParallelSine = Real(1e-4);
 /// (the 6 face axes of the seeds' 15-axis OBB test), and the 9 edge-pair axes e_i x R e_j with
 /// their supporting edges, instead of the 144 edge pairs of queryEdgeDirections. Same
 /// conventions and face/edge indices as the general queries on makePolyView(Box) views.
+/// When a face axis separates the boxes by more than `stopAbove`, the nine edge axes are not
+/// evaluated and `edge` stays empty (most pairs of a rain's overlapping fat boxes end there).
 struct BoxBoxQuery {
   FaceQuery faceA, faceB;
   EdgeQuery edge;
 };
-BoxBoxQuery queryBoxBox(const Vec3& hA, const Vec3& hB, const Transform& bToA);
+BoxBoxQuery queryBoxBox(const Vec3& hA, const Vec3& hB, const Transform& bToA,
+                        Real stopAbove = std::numeric_limits<Real>::infinity());
 
 /// Gauss-map arcs (a, b) and (c, d) intersect on the unit sphere; bxa and dxc are the normals of
 /// the arcs' planes (b x a and d x c for arcs shorter than half a circle; given explicitly so a

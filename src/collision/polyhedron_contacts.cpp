@@ -134,7 +134,7 @@ bool collideBoxes(const Box& boxA, const Transform& poseA, const Box& boxB,
   const Real reach = boxA.halfExtents.norm() + boxB.halfExtents.norm() + spec;
   if ((poseB.p - poseA.p).squaredNorm() > reach * reach) return false;
   const Transform bToA = poseA.inverse() * poseB;
-  const BoxBoxQuery q = queryBoxBox(boxA.halfExtents, boxB.halfExtents, bToA);
+  const BoxBoxQuery q = queryBoxBox(boxA.halfExtents, boxB.halfExtents, bToA, spec);
   if (q.faceA.separation > spec || q.faceB.separation > spec || q.edge.separation > spec)
     return false;
   PolyStorage sa, sb;

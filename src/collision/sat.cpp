@@ -253,7 +253,7 @@ EdgeQuery queryEdgeDirections(const PolyView& a, const PolyView& b, const Transf
   return best;
 }
 
-BoxBoxQuery queryBoxBox(const Vec3& hA, const Vec3& hB, const Transform& bToA) {
+BoxBoxQuery queryBoxBox(const Vec3& hA, const Vec3& hB, const Transform& bToA, Real stopAbove) {
   // R's columns are B's axes in A's frame; t is B's centre. |R| with a small bias would be the
   // Gottschalk-style guard against parallel axes; the edge axes below skip those instead.
   const Mat3 R = bToA.q.toRotationMatrix();
@@ -271,6 +271,7 @@ BoxBoxQuery queryBoxBox(const Vec3& hA, const Vec3& hB, const Transform& bToA) {
     const Real sb = std::abs(tB[i]) - hB[i] - radiiAinB[i];
     if (sb > q.faceB.separation) q.faceB = {sb, 2 * i + (tB[i] < 0 ? 1 : 0)};
   }
+  if (q.faceA.separation > stopAbove || q.faceB.separation > stopAbove) return q;
   // Edge axes c = e_i x b_j (b_j = R e_j, B's axis j in A's frame): of the 16 parallel edge
   // pairs of each direction pair, the two whose Gauss-map arcs cross build the Minkowski faces
   // with normals +-c, and the larger separation is |c . t| - r_A - r_B over |c| (Gottschalk's

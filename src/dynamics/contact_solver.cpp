@@ -242,14 +242,14 @@ void ContactBundles::build(const std::vector<ContactConstraint>& cs,
   const std::size_t groups = coloring.offsets.empty() ? 0 : coloring.offsets.size() - 1;
   overflow_ = coloring.overflow;
   groupOffsets_.assign(1, 0);
-  // Bundle counts first, so the bundles are made in place, zeroed.
+  // Bundle counts first, so the bundles are made in place.
   std::size_t total = 0;
   for (std::size_t g = 0; g < groups; ++g) {
     const std::size_t n = coloring.offsets[g + 1] - coloring.offsets[g];
     const bool sequential = g + 1 == groups && overflow_;
     total += sequential ? n : (n + kLanes - 1) / kLanes;
   }
-  bundles_.assign(total, WideConstraint{});
+  bundles_.resize(total);
   std::vector<std::uint32_t>& members = members_;
   std::size_t next = 0;
   const Kernels& kernel = kernels();
@@ -266,9 +266,14 @@ void ContactBundles::build(const std::vector<ContactConstraint>& cs,
     const std::size_t per = sequential ? 1 : std::size_t(kLanes);
     for (std::size_t first = 0; first < members.size(); first += per) {
       WideConstraint& w = bundles_[next++];
+      const int lanes = int(std::min(per, members.size() - first));
+      int points = 0;
+      for (int l = 0; l < lanes; ++l)
+        points = std::max(points, cs[members[first + std::size_t(l)]].pointCount);
+      w.clear(points);
       w.bodyA.fill(-1);
       w.bodyB.fill(-1);
-      w.lanes = int(std::min(per, members.size() - first));
+      w.lanes = lanes;
       WideInertia inertia{};
       for (int l = 0; l < w.lanes; ++l) {
         const std::uint32_t k = members[first + std::size_t(l)];

@@ -14,7 +14,12 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
+#include <cstring>
+#include <memory>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <tbb/task_arena.h>
@@ -155,7 +160,35 @@ struct WideConstraint {
   // Images of the tangents and the normal under the inverse inertias, for the rolling and
   // spinning rows (only when `angular`).
   WideReal iaT[2][3], iaN[3], ibT[2][3], ibN[3];
-  std::array<WidePoint, 4> points{};
+  // Not initialised: a bundle is 8 KB, most of it points, and the pile scene's bundles use
+  // one point in four. clear() zeroes the part a bundle uses.
+  std::array<WidePoint, 4> points;
+
+  /// Zeroes every field and the first `pointCount` points; the others stay unread.
+  void clear(int pointCount) {
+    std::memset(static_cast<void*>(this), 0,
+                offsetof(WideConstraint, points) + std::size_t(pointCount) * sizeof(WidePoint));
+  }
+};
+static_assert(std::is_trivially_copyable_v<WideConstraint> &&
+              std::is_standard_layout_v<WideConstraint>);
+
+/// std::allocator, but resize() default-initialises new elements instead of value-initialising
+/// them, so that growing the bundles does not zero what clear() zeroes again.
+template <class T>
+struct DefaultInitAllocator : std::allocator<T> {
+  using value_type = T;
+  DefaultInitAllocator() noexcept = default;
+  template <class U>
+  DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
 };
 
 /// The inverse inertias of a bundle's bodies, lane by lane (row-major 3x3).
@@ -196,10 +229,11 @@ class ContactBundles {
   /// Writes the impulses, approach speeds and largest impulses back into `cs`.
   void store(std::vector<ContactConstraint>& cs) const;
 
-  const std::vector<WideConstraint>& bundles() const { return bundles_; }
+  using Bundles = std::vector<WideConstraint, DefaultInitAllocator<WideConstraint>>;
+  const Bundles& bundles() const { return bundles_; }
 
  private:
-  std::vector<WideConstraint> bundles_;
+  Bundles bundles_;
   std::vector<std::uint32_t> groupOffsets_;  ///< Colour g is bundles_[offsets[g], offsets[g + 1]).
   bool overflow_ = false;                    ///< The last group runs in sequence.
   std::vector<std::uint32_t> members_;       ///< Scratch of build(): one colour's constraints.

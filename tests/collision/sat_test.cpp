@@ -88,6 +88,37 @@ TEST(Sat, BoxBoxQueriesEqualTheGaussMapQueries) {
   EXPECT_GT(edgeIndexChecked, edgeChecked * 99 / 100);
 }
 
+// The early stop changes nothing but the skipped edge query: the same face queries bit for
+// bit, and the same edge query whenever no face axis separates beyond the limit.
+TEST(Sat, BoxBoxQueryStopsAfterSeparatingFaces) {
+  std::mt19937_64 rng(43);
+  const Real limit = Real(0.02);
+  int stopped = 0, full = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const BoxPair p = randomPair(rng);
+    const Transform bToA = p.poseA.inverse() * p.poseB;
+    const detail::BoxBoxQuery all = detail::queryBoxBox(p.a.halfExtents, p.b.halfExtents, bToA);
+    const detail::BoxBoxQuery q =
+        detail::queryBoxBox(p.a.halfExtents, p.b.halfExtents, bToA, limit);
+    ASSERT_EQ(q.faceA.separation, all.faceA.separation) << "trial " << trial;
+    ASSERT_EQ(q.faceA.face, all.faceA.face);
+    ASSERT_EQ(q.faceB.separation, all.faceB.separation);
+    ASSERT_EQ(q.faceB.face, all.faceB.face);
+    if (std::max(all.faceA.separation, all.faceB.separation) > limit) {
+      ASSERT_LT(q.edge.edgeA, 0) << "trial " << trial;
+      ++stopped;
+    } else {
+      ASSERT_EQ(q.edge.separation, all.edge.separation) << "trial " << trial;
+      ASSERT_EQ(q.edge.edgeA, all.edge.edgeA);
+      ASSERT_EQ(q.edge.edgeB, all.edge.edgeB);
+      ++full;
+    }
+  }
+  // randomPair makes both kinds often.
+  EXPECT_GT(stopped, 1000);
+  EXPECT_GT(full, 1000);
+}
+
 TEST(Sat, BoxBoxFastPathGivesTheGeneralManifold) {
   std::mt19937_64 rng(42);
   const ContactSettings settings{.speculativeDistance = Real(0.02)};
