@@ -41,36 +41,54 @@ void appendConvex(const Collider& a, const Transform& poseA, const Collider& b,
 
 void none(const Collider&, const Transform&, const Collider&, const Transform&,
           const ContactSettings&, std::vector<ContactManifold>&) {}
+bool noneConvex(const Collider&, const Transform&, const Collider&, const Transform&,
+                const ContactSettings&, ContactManifold&) {
+  return false;
+}
+
+// A pair's function, and for two convex shapes the one-manifold function it wraps.
+struct Entry {
+  PairFn many = none;
+  detail::ConvexPairFn one = noneConvex;
+
+  constexpr Entry() = default;
+  constexpr Entry(PairFn f) : many(f) {}  // implicit: `set(a, b, f)` for the other pairs
+};
+template <detail::ConvexPairFn F>
+constexpr Entry convex() {
+  Entry e;
+  e.many = appendConvex<F>;
+  e.one = F;
+  return e;
+}
 
 constexpr int kN = kShapeTypeCount;
-using Table = std::array<std::array<PairFn, kN>, kN>;
+using Table = std::array<std::array<Entry, kN>, kN>;
 
 constexpr Table makeTable() {
   using enum ShapeType;
-  Table t{};
-  for (auto& row : t)
-    for (auto& f : row) f = none;  // every pair is set below
-  const auto set = [&t](ShapeType a, ShapeType b, PairFn f) { t[int(a)][int(b)] = f; };
+  Table t{};  // every pair is set below
+  const auto set = [&t](ShapeType a, ShapeType b, Entry f) { t[int(a)][int(b)] = f; };
   set(Plane, Plane, none);  // two static half-spaces
-  set(Plane, Sphere, appendConvex<detail::collidePlaneSphere>);
-  set(Plane, Capsule, appendConvex<detail::collidePlaneCapsule>);
-  set(Plane, Box, appendConvex<detail::collidePlaneBox>);
-  set(Plane, Cylinder, appendConvex<detail::collidePlaneCylinder>);
-  set(Plane, Hull, appendConvex<detail::collidePlaneHull>);
+  set(Plane, Sphere, convex<detail::collidePlaneSphere>());
+  set(Plane, Capsule, convex<detail::collidePlaneCapsule>());
+  set(Plane, Box, convex<detail::collidePlaneBox>());
+  set(Plane, Cylinder, convex<detail::collidePlaneCylinder>());
+  set(Plane, Hull, convex<detail::collidePlaneHull>());
   set(Plane, HeightField, none);  // both static
   for (ShapeType b : {Capsule, Box, Cylinder, Hull})
-    set(Sphere, b, appendConvex<detail::collideSphereConvex>);
-  set(Sphere, Sphere, appendConvex<detail::collideSpheres>);
-  set(Capsule, Capsule, appendConvex<detail::collideCapsules>);
-  set(Capsule, Box, appendConvex<detail::collideCapsulePolyhedron>);
-  set(Capsule, Hull, appendConvex<detail::collideCapsulePolyhedron>);
-  set(Capsule, Cylinder, appendConvex<detail::collideCylinderConvex>);
-  set(Box, Box, appendConvex<detail::collidePolyhedronPair>);
-  set(Box, Hull, appendConvex<detail::collidePolyhedronPair>);
-  set(Hull, Hull, appendConvex<detail::collidePolyhedronPair>);
-  set(Box, Cylinder, appendConvex<detail::collideCylinderConvex>);
-  set(Cylinder, Cylinder, appendConvex<detail::collideCylinderConvex>);
-  set(Cylinder, Hull, appendConvex<detail::collideCylinderConvex>);
+    set(Sphere, b, convex<detail::collideSphereConvex>());
+  set(Sphere, Sphere, convex<detail::collideSpheres>());
+  set(Capsule, Capsule, convex<detail::collideCapsules>());
+  set(Capsule, Box, convex<detail::collideCapsulePolyhedron>());
+  set(Capsule, Hull, convex<detail::collideCapsulePolyhedron>());
+  set(Capsule, Cylinder, convex<detail::collideCylinderConvex>());
+  set(Box, Box, convex<detail::collidePolyhedronPair>());
+  set(Box, Hull, convex<detail::collidePolyhedronPair>());
+  set(Hull, Hull, convex<detail::collidePolyhedronPair>());
+  set(Box, Cylinder, convex<detail::collideCylinderConvex>());
+  set(Cylinder, Cylinder, convex<detail::collideCylinderConvex>());
+  set(Cylinder, Hull, convex<detail::collideCylinderConvex>());
   set(HeightField, HeightField, none);  // both static
   set(Plane, Mesh, none);                // both static
   set(Mesh, HeightField, none);          // both static
@@ -94,12 +112,21 @@ void collide(const Collider& a, const Transform& poseA, const Collider& b,
              std::vector<ContactManifold>& out) {
   const int ta = int(a.type()), tb = int(b.type());
   if (ta <= tb) {
-    kTable[std::size_t(ta)][std::size_t(tb)](a, poseA, b, poseB, settings, out);
+    kTable[std::size_t(ta)][std::size_t(tb)].many(a, poseA, b, poseB, settings, out);
     return;
   }
   const std::size_t first = out.size();
-  kTable[std::size_t(tb)][std::size_t(ta)](b, poseB, a, poseA, settings, out);
+  kTable[std::size_t(tb)][std::size_t(ta)].many(b, poseB, a, poseA, settings, out);
   for (std::size_t k = first; k < out.size(); ++k) detail::flipManifold(out[k]);
+}
+
+bool collideConvex(const Collider& a, const Transform& poseA, const Collider& b,
+                   const Transform& poseB, const ContactSettings& settings, ContactManifold& out) {
+  const int ta = int(a.type()), tb = int(b.type());
+  if (ta <= tb) return kTable[std::size_t(ta)][std::size_t(tb)].one(a, poseA, b, poseB, settings, out);
+  if (!kTable[std::size_t(tb)][std::size_t(ta)].one(b, poseB, a, poseA, settings, out)) return false;
+  detail::flipManifold(out);
+  return true;
 }
 
 }  // namespace inertia

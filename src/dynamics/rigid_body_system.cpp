@@ -220,7 +220,15 @@ struct RigidBodySystem::Data {
   std::vector<std::pair<int, int>> proxyPairs;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> mergedShapePairs;  // scratch of the merge
-  std::vector<ContactManifold> manifolds;
+  // Per shape slot, refreshed at each step's start: what the narrow phase reads of a shape for
+  // every candidate pair, in a small record instead of the shape's and body's large ones (the
+  // pile's 45,000 pairs a step missed the cache on those).
+  struct ShapeFrame {
+    Transform pose;  // world pose of the shape
+    ShapeType type = ShapeType::Sphere;
+    bool fast = false;  // its body is continuous this step (BodyRecord::fast)
+  };
+  std::vector<ShapeFrame> frames;
   std::vector<ContactInfo> previous;
   std::vector<ContactExtra> previousExtras;
   std::vector<std::uint32_t> order;
@@ -717,17 +725,20 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
   auto t0 = Clock::now();
   D.moved.clear();
   D.enlarged.clear();
+  D.frames.resize(D.shapes.size());
   for (std::uint32_t bi = 0; bi < bodyCount; ++bi) {
     BodyRecord& b = D.bodies[bi];
     if (!b.alive) continue;
     b.fast = isBullet(b, dt, tuning);
+    for (std::uint32_t si : b.shapes)
+      D.frames[si] = {D.shapePose(D.shapes[si]), D.shapes[si].collider.type(), b.fast};
     if (b.type == BodyType::Static || !b.awake) continue;
     const bool bullet = b.fast;
     const Vec3 displacement = b.v * dt;
     for (std::uint32_t si : b.shapes) {
       ShapeRecord& sh = D.shapes[si];
       if (sh.proxy == DynamicTree::kNull) continue;
-      Aabb box = worldBounds(sh.collider.shape(), D.shapePose(sh));
+      Aabb box = worldBounds(sh.collider.shape(), D.frames[si].pose);
       if (bullet) {
         // Swept over the step, so a fast body meets what lies in its path.
         const Real spin = b.w.norm() * b.extent * dt;
@@ -769,7 +780,7 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
   const std::size_t treeCount = D.pairs.size();
   for (std::uint32_t plane : D.planes) {
     const Plane& pl = *D.shapes[plane].collider.shape().getIf<Plane>();
-    const Transform planePose = D.shapePose(D.shapes[plane]);
+    const Transform& planePose = D.frames[plane].pose;
     const Vec3 n = planePose.rotate(pl.normal);
     const Real offset = pl.offset + n.dot(planePose.p);
     for (int proxy : D.moved) {
@@ -820,28 +831,33 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
         [](const ContactInfo& p, const auto& k) { return contactKey(p) < k; });
     for (std::size_t pi = first; pi < last; ++pi) {
       const auto [a, b] = D.pairs[pi];
-      const ShapeRecord& sa = D.shapes[a];
-      const ShapeRecord& sb = D.shapes[b];
-      const BodyRecord& ba = D.bodies[sa.body];
-      const BodyRecord& bb = D.bodies[sb.body];
+      const Data::ShapeFrame& fa = D.frames[a];
+      const Data::ShapeFrame& fb = D.frames[b];
       ContactSettings cs;
       cs.speculativeDistance = tuning.speculativeDistance;
-      if (ba.fast || bb.fast)
+      if (fa.fast || fb.fast) {
+        const BodyRecord& ba = D.bodies[D.shapes[a].body];
+        const BodyRecord& bb = D.bodies[D.shapes[b].body];
         cs.speculativeDistance +=
             ((bb.v - ba.v).norm() + ba.w.norm() * ba.extent + bb.w.norm() * bb.extent) * dt;
-      const Transform poseA = D.shapePose(sa), poseB = D.shapePose(sb);
-      ContactInfo info;
-      info.bodyA = D.bodyId(sa.body);
-      info.bodyB = D.bodyId(sb.body);
-      info.shapeA = D.shapeId(a);
-      info.shapeB = D.shapeId(b);
+      }
+      const Transform& poseA = fa.pose;
+      const Transform& poseB = fb.pose;
+      // The pair's ids, made only for a pair that has a manifold.
+      const auto newContact = [&]() -> ContactInfo& {
+        ContactInfo& info = out.contacts.emplace_back();
+        info.bodyA = D.bodyId(D.shapes[a].body);
+        info.bodyB = D.bodyId(D.shapes[b].body);
+        info.shapeA = D.shapeId(a);
+        info.shapeB = D.shapeId(b);
+        return info;
+      };
       // A sphere's manifold is one point query (two spheres: their centres), cheaper than
       // carrying one along.
+      const bool convex = singleManifold(fa.type) && singleManifold(fb.type);
       const bool cacheable = reuse && cs.speculativeDistance == tuning.speculativeDistance &&
-                             singleManifold(sa.collider.type()) &&
-                             singleManifold(sb.collider.type()) &&
-                             sa.collider.type() != ShapeType::Sphere &&
-                             sb.collider.type() != ShapeType::Sphere;
+                             convex && fa.type != ShapeType::Sphere &&
+                             fb.type != ShapeType::Sphere;
       const Transform relative = cacheable ? poseA.inverse() * poseB : Transform{};
       if (cacheable) {
         // Last step's manifold of this pair, if its features still hold. The pairs and last
@@ -849,11 +865,13 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
         const auto key = std::make_tuple(a, b, 0u, 0u);
         while (previous != D.previous.end() && contactKey(*previous) < key) ++previous;
         const auto it = previous;
-        if (it != D.previous.end() && contactKey(*it) == key && it->bodyA == info.bodyA) {
+        if (it != D.previous.end() && contactKey(*it) == key &&
+            it->bodyA == D.bodyId(D.shapes[a].body)) {
           const ContactExtra& pe =
               D.previousExtras[static_cast<std::size_t>(it - D.previous.begin())];
           if (pe.reusable && (relative.p - pe.relative.p).squaredNorm() < reuseDistance2 &&
               std::abs(relative.q.dot(pe.relative.q)) > reuseCosine) {
+            ContactInfo& info = newContact();
             info.manifold = it->manifold;
             ContactManifold& m = info.manifold;
             m.normal = poseA.rotate(pe.localNormal);
@@ -863,7 +881,6 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
               p.pointB = poseB.apply(pe.localB[static_cast<std::size_t>(k)]);
               p.separation = (p.pointB - p.pointA).dot(m.normal);
             }
-            out.contacts.push_back(info);
             ContactExtra& e = out.extras.emplace_back();
             e.reusable = true;
             e.relative = pe.relative;
@@ -874,12 +891,8 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
           }
         }
       }
-      out.manifolds.clear();
-      collide(sa.collider, poseA, sb.collider, poseB, cs, out.manifolds);
-      for (const ContactManifold& m : out.manifolds) {
-        if (m.pointCount == 0) continue;
-        info.manifold = m;
-        out.contacts.push_back(info);
+      const auto add = [&](const ContactManifold& m) {
+        newContact().manifold = m;
         ContactExtra& e = out.extras.emplace_back();
         if (cacheable) {
           e.reusable = true;
@@ -891,7 +904,19 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
             e.localB[static_cast<std::size_t>(k)] = poseB.applyInverse(p.pointB);
           }
         }
+      };
+      const Collider& ca = D.shapes[a].collider;
+      const Collider& cb = D.shapes[b].collider;
+      if (convex) {
+        // One manifold at most, without the vector.
+        ContactManifold m;
+        if (collideConvex(ca, poseA, cb, poseB, cs, m) && m.pointCount > 0) add(m);
+        continue;
       }
+      out.manifolds.clear();
+      collide(ca, poseA, cb, poseB, cs, out.manifolds);
+      for (const ContactManifold& m : out.manifolds)
+        if (m.pointCount > 0) add(m);
     }
   };
   if (arena && chunkCount > 1) {

@@ -430,6 +430,47 @@ TEST(Contact, SwappingShapesFlipsTheManifoldExactly) {
   EXPECT_GT(compared, 1500);
 }
 
+// collideConvex is collide() without the vector: the same manifold, bit for bit, for every
+// ordered pair of convex types, and false exactly when collide() appends nothing (planes
+// included: a plane pair of two static half-spaces makes none).
+TEST(Contact, CollideConvexGivesCollidesManifold) {
+  std::mt19937_64 rng(15);
+  auto zoo = convexZoo(rng);
+  zoo.emplace_back(Plane{Vec3(0, 1, 0), Real(0.1)});
+  int hits = 0, misses = 0;
+  for (int k = 0; k < 200; ++k)
+    for (const Collider& a : zoo)
+      for (const Collider& b : zoo) {
+        const Transform pa = randomPose(rng, 0.5), pb = randomPose(rng, 0.5);
+        SCOPED_TRACE(std::string(shapeTypeName(a.type())) + "-" + shapeTypeName(b.type()));
+        const auto all = collideAll(a, pa, b, pb, Real(0.02));
+        ContactManifold m;
+        const bool hit = collideConvex(a, pa, b, pb, ContactSettings{.speculativeDistance = Real(0.02)}, m);
+        ASSERT_EQ(hit, !all.empty());
+        if (!hit) {
+          ++misses;
+          continue;
+        }
+        ++hits;
+        ASSERT_EQ(all.size(), 1u);
+        const ContactManifold& c = all[0];
+        ASSERT_EQ(m.pointCount, c.pointCount);
+        EXPECT_EQ(m.normal, c.normal);
+        EXPECT_EQ(m.subShapeA, c.subShapeA);
+        EXPECT_EQ(m.subShapeB, c.subShapeB);
+        for (int i = 0; i < m.pointCount; ++i) {
+          const ContactPoint &p = m.points[std::size_t(i)], &q = c.points[std::size_t(i)];
+          EXPECT_EQ(p.pointA, q.pointA);
+          EXPECT_EQ(p.pointB, q.pointB);
+          EXPECT_EQ(p.separation, q.separation);
+          EXPECT_EQ(p.id, q.id);
+        }
+      }
+  // Both outcomes, for every type pair's function.
+  EXPECT_GT(hits, 3000);
+  EXPECT_GT(misses, 500);
+}
+
 TEST(Contact, PointsLieOnBothSurfacesForRandomPairs) {
   std::mt19937_64 rng(14);
   const auto zoo = convexZoo(rng);

@@ -74,4 +74,11 @@ void collide(const Collider& a, const Transform& poseA, const Collider& b,
              const Transform& poseB, const ContactSettings& settings,
              std::vector<ContactManifold>& out);
 
+/// collide() for two convex shapes (any but Mesh, HeightField and Compound), which make one
+/// manifold at most: writes it to `out` and returns true, or returns false when the shapes are
+/// apart by more than settings.speculativeDistance (or cannot both move). The same manifold
+/// as collide() gives, without the vector.
+bool collideConvex(const Collider& a, const Transform& poseA, const Collider& b,
+                   const Transform& poseB, const ContactSettings& settings, ContactManifold& out);
+
 }  // namespace inertia
