@@ -227,6 +227,7 @@ struct RigidBodySystem::Data {
     Transform pose;  // world pose of the shape
     ShapeType type = ShapeType::Sphere;
     bool fast = false;  // its body is continuous this step (BodyRecord::fast)
+    Material material;  // for the contacts' constraints
   };
   std::vector<ShapeFrame> frames;
   std::vector<ContactInfo> previous;
@@ -731,7 +732,8 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
     if (!b.alive) continue;
     b.fast = isBullet(b, dt, tuning);
     for (std::uint32_t si : b.shapes)
-      D.frames[si] = {D.shapePose(D.shapes[si]), D.shapes[si].collider.type(), b.fast};
+      D.frames[si] = {D.shapePose(D.shapes[si]), D.shapes[si].collider.type(), b.fast,
+                      D.shapes[si].material};
     if (b.type == BodyType::Static || !b.awake) continue;
     const bool bullet = b.fast;
     const Vec3 displacement = b.v * dt;
@@ -858,7 +860,9 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
       const bool cacheable = reuse && cs.speculativeDistance == tuning.speculativeDistance &&
                              convex && fa.type != ShapeType::Sphere &&
                              fb.type != ShapeType::Sphere;
-      const Transform relative = cacheable ? poseA.inverse() * poseB : Transform{};
+      // B's pose in A's, computed only for a pair with last step's manifold or a new one (most
+      // of a rain's candidate pairs have neither).
+      const auto relativePose = [&] { return poseA.inverse() * poseB; };
       if (cacheable) {
         // Last step's manifold of this pair, if its features still hold. The pairs and last
         // step's contacts are both sorted by shapes: one walk through the latter per chunk.
@@ -869,6 +873,7 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
             it->bodyA == D.bodyId(D.shapes[a].body)) {
           const ContactExtra& pe =
               D.previousExtras[static_cast<std::size_t>(it - D.previous.begin())];
+          const Transform relative = relativePose();
           if (pe.reusable && (relative.p - pe.relative.p).squaredNorm() < reuseDistance2 &&
               std::abs(relative.q.dot(pe.relative.q)) > reuseCosine) {
             ContactInfo& info = newContact();
@@ -896,7 +901,7 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
         ContactExtra& e = out.extras.emplace_back();
         if (cacheable) {
           e.reusable = true;
-          e.relative = relative;
+          e.relative = relativePose();
           e.localNormal = poseA.q.conjugate() * m.normal;
           for (int k = 0; k < m.pointCount; ++k) {
             const ContactPoint& p = m.points[static_cast<std::size_t>(k)];
@@ -1061,8 +1066,8 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
     c.contactIndex = static_cast<int>(ci);
     c.bodyA = solverSlot(info.bodyA.index);
     c.bodyB = solverSlot(info.bodyB.index);
-    const Material& ma = D.shapes[info.shapeA.index].material;
-    const Material& mb = D.shapes[info.shapeB.index].material;
+    const Material& ma = D.frames[info.shapeA.index].material;
+    const Material& mb = D.frames[info.shapeB.index].material;
     const Real staticFriction = combine(s.combine.friction, ma.friction, mb.friction);
     const Real slidingFriction = combine(s.combine.friction, ma.sliding(), mb.sliding());
     c.restitution = combine(s.combine.restitution, ma.restitution, mb.restitution);
