@@ -29,6 +29,23 @@ inline Native nativeSqrt(Native x) {
 #endif
 }
 
+// Whether any lane of a comparison's result is set.
+inline bool nativeAny(NativeMask m) {
+#if INERTIA_PACK_BYTES == 32 && defined(INERTIA_DOUBLE)
+  return _mm256_movemask_pd(__m256d(m)) != 0;
+#elif INERTIA_PACK_BYTES == 32
+  return _mm256_movemask_ps(__m256(m)) != 0;
+#elif defined(__SSE2__) && defined(INERTIA_DOUBLE)
+  return _mm_movemask_pd(__m128d(m)) != 0;
+#elif defined(__SSE2__)
+  return _mm_movemask_ps(__m128(m)) != 0;
+#else
+  for (int i = 0; i < kPerNative; ++i)
+    if (m[i]) return true;
+  return false;
+#endif
+}
+
 /// The kLanes values of a WideReal in registers.
 struct Pack {
   Native n[kNatives];
@@ -84,6 +101,11 @@ INERTIA_PACK_CMP(!=)
 [[gnu::always_inline]] inline Mask operator&(Mask a, const Mask& b) {
   for (int i = 0; i < kNatives; ++i) a.n[i] = a.n[i] & b.n[i];
   return a;
+}
+[[gnu::always_inline]] inline bool any(const Mask& m) {
+  bool set = false;
+  for (const NativeMask& v : m.n) set = set || nativeAny(v);
+  return set;
 }
 /// m ? a : b, lane by lane.
 [[gnu::always_inline]] inline Pack select(const Mask& m, const Pack& a, const Pack& b) {
@@ -285,11 +307,15 @@ void warmStartBundle(const WideConstraint& c, SolverBody* bodies) {
   scatter(b, c.bodyB, c.writeB, bodies);
 }
 
-// Clamps the 2-vector (x, y) to the disc of radius `limit`, without a branch (sliding or
-// sticking is unpredictable): scaling by 1 is exact.
+// Clamps the 2-vector (x, y) to the disc of radius `limit`. When no lane is outside (every
+// contact of the bundle sticks, as in resting stacks) nothing changes, and the branch lets the
+// next row start without waiting for the square root and the division, the longest latency of
+// the pass. Otherwise lanes inside are scaled by 1, which is exact.
 [[gnu::always_inline]] inline void clampDisc(Pack& x, Pack& y, const Pack& limit) {
   const Pack len2 = x * x + y * y;
-  const Pack scale = select(len2 > limit * limit, limit / sqrt(len2), Pack::splat(1));
+  const Mask outside = len2 > limit * limit;
+  if (!any(outside)) return;
+  const Pack scale = select(outside, limit / sqrt(len2), Pack::splat(1));
   x = x * scale;
   y = y * scale;
 }
