@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <numeric>
+#include <utility>
 
 #include <cstring>
 
@@ -63,8 +64,11 @@ void colorConstraints(const std::vector<ContactConstraint>& cs,
   // Greedy, in constraint order (Box2D v3): each constraint takes the first colour in which
   // neither of its moving bodies is used yet; static and kinematic bodies do not count.
   const std::size_t words = (bodies.size() + 63) / 64;
-  std::vector<std::uint64_t> used(kMaxColors * words, 0);
-  std::vector<int> color(cs.size(), kMaxColors);
+  std::vector<std::uint64_t>& used = out.used;
+  std::vector<std::uint8_t>& color = out.color;
+  used.assign(kMaxColors * words, 0);
+  color.assign(cs.size(), kMaxColors);
+  static_assert(kMaxColors < 256);
   std::array<std::uint32_t, kMaxColors + 1> counts{};
   auto moving = [&](int i) { return i >= 0 && bodies[static_cast<std::size_t>(i)].invMass > 0; };
   for (std::size_t k = 0; k < cs.size(); ++k) {
@@ -75,7 +79,7 @@ void colorConstraints(const std::vector<ContactConstraint>& cs,
       if (taken(a) || taken(b)) continue;
       if (moving(a)) set[std::size_t(a) / 64] |= std::uint64_t(1) << (a % 64);
       if (moving(b)) set[std::size_t(b) / 64] |= std::uint64_t(1) << (b % 64);
-      color[k] = c;
+      color[k] = std::uint8_t(c);
       break;
     }
     ++counts[std::size_t(color[k])];
@@ -255,14 +259,21 @@ void ContactBundles::build(const std::vector<ContactConstraint>& cs,
   const Kernels& kernel = kernels();
   for (std::size_t g = 0; g < groups; ++g) {
     const bool sequential = g + 1 == groups && overflow_;
-    members.assign(coloring.order.begin() + coloring.offsets[g],
-                   coloring.order.begin() + coloring.offsets[g + 1]);
-    // Lanes of a bundle run as many points as its fullest lane: bundle like with like. The
-    // order within a colour does not change the result.
-    if (!sequential)
-      std::stable_sort(members.begin(), members.end(), [&](std::uint32_t x, std::uint32_t y) {
-        return cs[x].pointCount > cs[y].pointCount;
-      });
+    const auto begin = coloring.order.begin() + coloring.offsets[g];
+    const auto end = coloring.order.begin() + coloring.offsets[g + 1];
+    if (sequential) {
+      members.assign(begin, end);
+    } else {
+      // Lanes of a bundle run as many points as its fullest lane: bundle like with like, most
+      // points first (a stable counting sort on 0..4 points). The order within a colour does
+      // not change the result.
+      std::array<std::uint32_t, 5> slot{};
+      for (auto it = begin; it != end; ++it) ++slot[std::size_t(4 - cs[*it].pointCount)];
+      for (std::uint32_t k = 0, sum = 0; k < slot.size(); ++k) sum += std::exchange(slot[k], sum);
+      members.resize(std::size_t(end - begin));
+      for (auto it = begin; it != end; ++it)
+        members[slot[std::size_t(4 - cs[*it].pointCount)]++] = *it;
+    }
     const std::size_t per = sequential ? 1 : std::size_t(kLanes);
     for (std::size_t first = 0; first < members.size(); first += per) {
       WideConstraint& w = bundles_[next++];

@@ -100,6 +100,9 @@ struct ConstraintColoring {
   std::vector<std::uint32_t> order;    ///< Constraint indices, colour by colour.
   std::vector<std::uint32_t> offsets;  ///< Group g is order[offsets[g], offsets[g + 1]).
   bool overflow = false;               ///< The last group is the overflow.
+  // Scratch of colorConstraints(), kept so that colouring a step does not allocate.
+  std::vector<std::uint64_t> used;
+  std::vector<std::uint8_t> color;
 };
 
 /// Colours `cs` greedily in order: deterministic, independent of any thread count.

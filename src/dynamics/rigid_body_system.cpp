@@ -233,6 +233,7 @@ struct RigidBodySystem::Data {
   std::vector<ContactInfo> previous;
   std::vector<ContactExtra> previousExtras;
   std::vector<std::uint32_t> order;
+  std::vector<std::size_t> touchingNow, touchingBefore;  // scratch of the contact events
   std::vector<ContactInfo> sortedContacts;  // scratch of the sort by key
   std::vector<ContactExtra> sortedExtras;
   std::vector<ContactConstraint> constraints;
@@ -821,10 +822,8 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
   constexpr std::size_t kPairChunk = 32;
   const std::size_t chunkCount = (D.pairs.size() + kPairChunk - 1) / kPairChunk;
   if (D.chunks.size() < chunkCount) D.chunks.resize(chunkCount);
-  auto collideChunk = [&](std::size_t chunk) {
-    NarrowChunk& out = D.chunks[chunk];
-    out.contacts.clear();
-    out.extras.clear();
+  // Appends chunk `chunk`'s contacts to `out`.
+  auto collideChunk = [&](std::size_t chunk, NarrowChunk& out) {
     const std::size_t first = chunk * kPairChunk;
     const std::size_t last = std::min(first + kPairChunk, D.pairs.size());
     auto previous = std::lower_bound(
@@ -926,14 +925,26 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
   };
   if (arena && chunkCount > 1) {
     arena->execute([&] {
-      tbb::parallel_for(std::size_t(0), chunkCount, [&](std::size_t c) { collideChunk(c); });
+      tbb::parallel_for(std::size_t(0), chunkCount, [&](std::size_t c) {
+        D.chunks[c].contacts.clear();
+        D.chunks[c].extras.clear();
+        collideChunk(c, D.chunks[c]);
+      });
     });
+    for (std::size_t c = 0; c < chunkCount; ++c) {
+      D.contacts.insert(D.contacts.end(), D.chunks[c].contacts.begin(), D.chunks[c].contacts.end());
+      D.extras.insert(D.extras.end(), D.chunks[c].extras.begin(), D.chunks[c].extras.end());
+    }
   } else {
-    for (std::size_t c = 0; c < chunkCount; ++c) collideChunk(c);
-  }
-  for (std::size_t c = 0; c < chunkCount; ++c) {
-    D.contacts.insert(D.contacts.end(), D.chunks[c].contacts.begin(), D.chunks[c].contacts.end());
-    D.extras.insert(D.extras.end(), D.chunks[c].extras.begin(), D.chunks[c].extras.end());
+    // In sequence the chunks append straight to the step's lists, in the same order.
+    NarrowChunk& all = D.chunks.empty() ? D.chunks.emplace_back() : D.chunks[0];
+    std::swap(all.contacts, D.contacts);
+    std::swap(all.extras, D.extras);
+    all.contacts.clear();
+    all.extras.clear();
+    for (std::size_t c = 0; c < chunkCount; ++c) collideChunk(c, all);
+    std::swap(all.contacts, D.contacts);
+    std::swap(all.extras, D.extras);
   }
   // Contacts between bodies that did not move (asleep or static) keep last step's state.
   for (std::size_t i = 0; i < D.previous.size(); ++i) {
@@ -1345,7 +1356,8 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
       out.push_back(i);
     }
   };
-  std::vector<std::size_t> now, before;
+  std::vector<std::size_t>& now = D.touchingNow;
+  std::vector<std::size_t>& before = D.touchingBefore;
   touchingPairs(D.contacts, D.extras, now);
   touchingPairs(D.previous, D.previousExtras, before);
   auto pairOf = [](const ContactInfo& c) { return pairKey(c.shapeA.index, c.shapeB.index); };
