@@ -716,6 +716,9 @@ std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t i) {
 
 void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* arena) {
   require(std::isfinite(dt) && dt > 0, "RigidBodySystem::step: dt must be finite and > 0 (s)");
+  // One thread: the sequential paths, without the tasks' overhead and the chunks' copies (the
+  // results are the same either way).
+  if (arena && arena->max_concurrency() <= 1) arena = nullptr;
   using Clock = std::chrono::steady_clock;
   Data& D = *d_;
   const ContactTuning& tuning = s.contact;
