@@ -257,8 +257,12 @@ int main(int argc, char** argv) {
   std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Scene& scene : {pyramidScene(), pileScene(), rainScene()}) {
     if (!only.empty() && std::find(only.begin(), only.end(), scene.name) == only.end()) continue;
-    printRow(scene, "Inertia soft_step (defaults: 4 substeps, 4 it. + 1 relax)",
-             runInertia(scene, {}));
+    const WorldSettings defaults;
+    const std::string label = "Inertia soft_step (defaults: " +
+                              std::to_string(defaults.substeps) + " substeps, " +
+                              std::to_string(defaults.solver.iterations) + " it. + " +
+                              std::to_string(defaults.solver.relaxIterations) + " relax)";
+    printRow(scene, label.c_str(), runInertia(scene, {}));
     printRow(scene, "Inertia soft_step (4 substeps, 2 it. + 1 relax)",
              runInertia(scene, {.iterations = 2}));
     printRow(scene, "Bullet SI (10 it., split impulse)", runBullet(scene));
