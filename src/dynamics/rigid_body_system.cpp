@@ -220,14 +220,19 @@ struct RigidBodySystem::Data {
   std::vector<std::pair<int, int>> proxyPairs;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> mergedShapePairs;  // scratch of the merge
-  // Per shape slot, refreshed at each step's start: what the narrow phase reads of a shape for
-  // every candidate pair, in a small record instead of the shape's and body's large ones (the
-  // pile's 45,000 pairs a step missed the cache on those).
+  // Per shape slot, refreshed at each step's start: what the pair filter and the narrow phase
+  // read of a shape and its body for every candidate pair, in a small record instead of the
+  // shape's and body's large ones (the pile's 45,000 pairs a step missed the cache on those).
   struct ShapeFrame {
     Transform pose;  // world pose of the shape
-    ShapeType type = ShapeType::Sphere;
-    bool fast = false;  // its body is continuous this step (BodyRecord::fast)
     Material material;  // for the contacts' constraints
+    std::uint32_t generation = 0;  // the shape's
+    std::uint32_t body = 0;
+    std::uint32_t bodyGeneration = 0;
+    ShapeType type = ShapeType::Sphere;
+    BodyType bodyType = BodyType::Static;
+    bool awake = false;
+    bool fast = false;  // its body is continuous this step (BodyRecord::fast)
   };
   std::vector<ShapeFrame> frames;
   std::vector<ContactInfo> previous;
@@ -736,8 +741,8 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
     if (!b.alive) continue;
     b.fast = isBullet(b, dt, tuning);
     for (std::uint32_t si : b.shapes)
-      D.frames[si] = {D.shapePose(D.shapes[si]), D.shapes[si].collider.type(), b.fast,
-                      D.shapes[si].material};
+      D.frames[si] = {D.shapePose(D.shapes[si]), D.shapes[si].material, D.shapes[si].generation,
+                      bi, b.generation, D.shapes[si].collider.type(), b.type, b.awake, b.fast};
     if (b.type == BodyType::Static || !b.awake) continue;
     const bool bullet = b.fast;
     const Vec3 displacement = b.v * dt;
@@ -775,11 +780,11 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
   D.pairs.clear();
   auto addPair = [&](std::uint32_t a, std::uint32_t b) {
     if (a > b) std::swap(a, b);
-    const BodyRecord& ba = D.bodies[D.shapes[a].body];
-    const BodyRecord& bb = D.bodies[D.shapes[b].body];
-    if (D.shapes[a].body == D.shapes[b].body) return;
-    if (ba.type != BodyType::Dynamic && bb.type != BodyType::Dynamic) return;
-    if (!ba.awake && !bb.awake) return;
+    const Data::ShapeFrame& fa = D.frames[a];
+    const Data::ShapeFrame& fb = D.frames[b];
+    if (fa.body == fb.body) return;
+    if (fa.bodyType != BodyType::Dynamic && fb.bodyType != BodyType::Dynamic) return;
+    if (!fa.awake && !fb.awake) return;
     D.pairs.emplace_back(a, b);
   };
   for (const auto& [p, q] : D.treePairs) addPair(D.tree.userData(p), D.tree.userData(q));
@@ -840,8 +845,8 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
       ContactSettings cs;
       cs.speculativeDistance = tuning.speculativeDistance;
       if (fa.fast || fb.fast) {
-        const BodyRecord& ba = D.bodies[D.shapes[a].body];
-        const BodyRecord& bb = D.bodies[D.shapes[b].body];
+        const BodyRecord& ba = D.bodies[fa.body];
+        const BodyRecord& bb = D.bodies[fb.body];
         cs.speculativeDistance +=
             ((bb.v - ba.v).norm() + ba.w.norm() * ba.extent + bb.w.norm() * bb.extent) * dt;
       }
@@ -850,10 +855,10 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
       // The pair's ids, made only for a pair that has a manifold.
       const auto newContact = [&]() -> ContactInfo& {
         ContactInfo& info = out.contacts.emplace_back();
-        info.bodyA = D.bodyId(D.shapes[a].body);
-        info.bodyB = D.bodyId(D.shapes[b].body);
-        info.shapeA = D.shapeId(a);
-        info.shapeB = D.shapeId(b);
+        info.bodyA = {fa.body, fa.bodyGeneration};
+        info.bodyB = {fb.body, fb.bodyGeneration};
+        info.shapeA = {a, fa.generation};
+        info.shapeB = {b, fb.generation};
         return info;
       };
       // A sphere's manifold is one point query (two spheres: their centres), cheaper than
@@ -872,7 +877,7 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
         while (previous != D.previous.end() && contactKey(*previous) < key) ++previous;
         const auto it = previous;
         if (it != D.previous.end() && contactKey(*it) == key &&
-            it->bodyA == D.bodyId(D.shapes[a].body)) {
+            it->bodyA == BodyId{fa.body, fa.bodyGeneration}) {
           const ContactExtra& pe =
               D.previousExtras[static_cast<std::size_t>(it - D.previous.begin())];
           const Transform relative = relativePose();
