@@ -141,6 +141,14 @@ struct NarrowChunk {
   std::vector<ContactManifold> manifolds;  // scratch for collide()
 };
 
+// Where a chunk of pairs appends its contacts: its own NarrowChunk when chunks run in parallel,
+// the step's lists when they run in sequence.
+struct NarrowOut {
+  std::vector<ContactInfo>& contacts;
+  std::vector<ContactExtra>& extras;
+  std::vector<ContactManifold>& manifolds;  // scratch for collide()
+};
+
 // Pairs of these shapes make at most one manifold, so it can be carried along as a whole.
 bool singleManifold(ShapeType t) {
   return t != ShapeType::Mesh && t != ShapeType::HeightField && t != ShapeType::Compound;
@@ -235,6 +243,7 @@ struct RigidBodySystem::Data {
     bool fast = false;  // its body is continuous this step (BodyRecord::fast)
   };
   std::vector<ShapeFrame> frames;
+  std::vector<ContactManifold> manifolds;  // collide()'s scratch when the chunks run in sequence
   std::vector<ContactInfo> previous;
   std::vector<ContactExtra> previousExtras;
   std::vector<std::uint32_t> order;
@@ -830,8 +839,8 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
   constexpr std::size_t kPairChunk = 32;
   const std::size_t chunkCount = (D.pairs.size() + kPairChunk - 1) / kPairChunk;
   if (D.chunks.size() < chunkCount) D.chunks.resize(chunkCount);
-  // Appends chunk `chunk`'s contacts to `out`.
-  auto collideChunk = [&](std::size_t chunk, NarrowChunk& out) {
+  // Appends chunk `chunk`'s contacts to out.contacts and out.extras.
+  auto collideChunk = [&](std::size_t chunk, NarrowOut out) {
     const std::size_t first = chunk * kPairChunk;
     const std::size_t last = std::min(first + kPairChunk, D.pairs.size());
     auto previous = std::lower_bound(
@@ -934,9 +943,10 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
   if (arena && chunkCount > 1) {
     arena->execute([&] {
       tbb::parallel_for(std::size_t(0), chunkCount, [&](std::size_t c) {
-        D.chunks[c].contacts.clear();
-        D.chunks[c].extras.clear();
-        collideChunk(c, D.chunks[c]);
+        NarrowChunk& chunk = D.chunks[c];
+        chunk.contacts.clear();
+        chunk.extras.clear();
+        collideChunk(c, {chunk.contacts, chunk.extras, chunk.manifolds});
       });
     });
     for (std::size_t c = 0; c < chunkCount; ++c) {
@@ -945,14 +955,8 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
     }
   } else {
     // In sequence the chunks append straight to the step's lists, in the same order.
-    NarrowChunk& all = D.chunks.empty() ? D.chunks.emplace_back() : D.chunks[0];
-    std::swap(all.contacts, D.contacts);
-    std::swap(all.extras, D.extras);
-    all.contacts.clear();
-    all.extras.clear();
-    for (std::size_t c = 0; c < chunkCount; ++c) collideChunk(c, all);
-    std::swap(all.contacts, D.contacts);
-    std::swap(all.extras, D.extras);
+    for (std::size_t c = 0; c < chunkCount; ++c)
+      collideChunk(c, {D.contacts, D.extras, D.manifolds});
   }
   // Contacts between bodies that did not move (asleep or static) keep last step's state.
   for (std::size_t i = 0; i < D.previous.size(); ++i) {
