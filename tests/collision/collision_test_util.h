@@ -2,6 +2,8 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -167,6 +169,61 @@ inline TriangleMesh randomSoup(std::mt19937_64& rng, int n, double extent, doubl
     t.push_back({b, b + 1, b + 2});
   }
   return TriangleMesh(std::move(v), std::move(t));
+}
+
+/// Closest points of the segments p0p1 and q0q1 (Ericson 5.1.9, clamped), in double: the
+/// squared distance. A segment may be a point.
+inline double segmentDistance2(const Vec3d& p0, const Vec3d& p1, const Vec3d& q0,
+                               const Vec3d& q1) {
+  const Vec3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  double s = 0, t = 0;
+  if (a <= 1e-300 && e <= 1e-300) return r.squaredNorm();
+  if (a <= 1e-300) {
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = d1.dot(r);
+    if (e <= 1e-300) {
+      s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = d1.dot(d2), den = a * e - b * b;
+      s = den > 0 ? std::clamp((b * f - c * e) / den, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0)
+        t = 0, s = std::clamp(-c / a, 0.0, 1.0);
+      else if (t > 1)
+        t = 1, s = std::clamp((b - c) / a, 0.0, 1.0);
+    }
+  }
+  return (p0 + s * d1 - (q0 + t * d2)).squaredNorm();
+}
+
+using TriangleD = std::array<Vec3d, 3>;
+
+/// The gap between two triangles (double) over all 17 separating axes of a triangle pair:
+/// exact for triangles (positive: apart by at least that; <= 0: they intersect).
+inline double triangleGap(const TriangleD& a, const TriangleD& b) {
+  double best = -1e300;
+  const auto test = [&](const Vec3d& axis) {
+    if (axis.norm() < 1e-12) return;
+    const Vec3d u = axis.normalized();
+    double minA = 1e300, maxA = -1e300, minB = 1e300, maxB = -1e300;
+    for (std::size_t k = 0; k < 3; ++k) {
+      minA = std::min(minA, u.dot(a[k])), maxA = std::max(maxA, u.dot(a[k]));
+      minB = std::min(minB, u.dot(b[k])), maxB = std::max(maxB, u.dot(b[k]));
+    }
+    best = std::max(best, std::max(minB - maxA, minA - maxB));
+  };
+  const Vec3d na = (a[1] - a[0]).cross(a[2] - a[0]), nb = (b[1] - b[0]).cross(b[2] - b[0]);
+  test(na);
+  test(nb);
+  for (std::size_t i = 0; i < 3; ++i) {
+    const Vec3d ea = a[(i + 1) % 3] - a[i], eb = b[(i + 1) % 3] - b[i];
+    test(na.cross(ea));
+    test(nb.cross(eb));
+    for (std::size_t j = 0; j < 3; ++j) test(ea.cross(b[(j + 1) % 3] - b[j]));
+  }
+  return best;
 }
 
 }  // namespace inertia::test

@@ -48,34 +48,6 @@ Vec3d closestOnTriangle(const Vec3d& p, const Vec3d& a, const Vec3d& b, const Ve
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
-// Ericson 5.1.9: closest points of segments p1q1 and p2q2 (double); returns the distance.
-double segmentSegment(const Vec3d& p1, const Vec3d& q1, const Vec3d& p2, const Vec3d& q2) {
-  const Vec3d d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
-  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
-  double s = 0, t = 0;
-  if (a <= 1e-300 && e <= 1e-300) return r.norm();
-  if (a <= 1e-300) {
-    t = std::clamp(f / e, 0.0, 1.0);
-  } else {
-    const double c = d1.dot(r);
-    if (e <= 1e-300) {
-      s = std::clamp(-c / a, 0.0, 1.0);
-    } else {
-      const double b = d1.dot(d2), denom = a * e - b * b;
-      s = denom > 0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-      t = (b * s + f) / e;
-      if (t < 0) {
-        t = 0;
-        s = std::clamp(-c / a, 0.0, 1.0);
-      } else if (t > 1) {
-        t = 1;
-        s = std::clamp((b - c) / a, 0.0, 1.0);
-      }
-    }
-  }
-  return ((p1 + d1 * s) - (p2 + d2 * t)).norm();
-}
-
 // A convex polytope for the brute-force oracle: world vertices, edges, triangles (double).
 struct Poly {
   std::vector<Vec3d> v;
@@ -110,7 +82,7 @@ double bruteDistance(const Poly& a, const Poly& b) {
             std::min(best, (p - closestOnTriangle(p, y->v[t[0]], y->v[t[1]], y->v[t[2]])).norm());
   for (const auto& ea : a.e)
     for (const auto& eb : b.e)
-      best = std::min(best, segmentSegment(a.v[ea[0]], a.v[ea[1]], b.v[eb[0]], b.v[eb[1]]));
+      best = std::min(best, std::sqrt(segmentDistance2(a.v[ea[0]], a.v[ea[1]], b.v[eb[0]], b.v[eb[1]])));
   return best;
 }
 
@@ -215,7 +187,7 @@ TEST(Gjk, CapsuleCapsuleMatchesSegmentDistance) {
     };
     const auto [a0, a1] = ends(ca, pa);
     const auto [b0, b1] = ends(cb, pb);
-    const double exact = segmentSegment(a0, a1, b0, b1) - ca.radius - cb.radius;
+    const double exact = std::sqrt(segmentDistance2(a0, a1, b0, b1)) - ca.radius - cb.radius;
     if (exact < 1e-2) continue;
     const ClosestPoints c = closestPoints(Collider(ca), pa, Collider(cb), pb);
     ASSERT_NEAR(c.distance, exact, tol(exact, 4)) << k;

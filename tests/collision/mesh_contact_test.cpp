@@ -415,32 +415,6 @@ TEST(CompoundContact, CompoundOnAMeshAndOnACompoundCombineTheSubShapes) {
 
 // ---- Mesh against mesh -------------------------------------------------------------------
 
-// The gap between two triangles (world, double) over all 17 separating axes of a triangle pair:
-// exact for triangles (positive: apart by at least that; <= 0: they intersect).
-double triangleGapD(const std::array<Vec3d, 3>& a, const std::array<Vec3d, 3>& b) {
-  double best = -1e300;
-  const auto test = [&](const Vec3d& axis) {
-    if (axis.norm() < 1e-12) return;
-    const Vec3d u = axis.normalized();
-    double minA = 1e300, maxA = -1e300, minB = 1e300, maxB = -1e300;
-    for (int k = 0; k < 3; ++k) {
-      minA = std::min(minA, u.dot(a[std::size_t(k)])), maxA = std::max(maxA, u.dot(a[std::size_t(k)]));
-      minB = std::min(minB, u.dot(b[std::size_t(k)])), maxB = std::max(maxB, u.dot(b[std::size_t(k)]));
-    }
-    best = std::max(best, std::max(minB - maxA, minA - maxB));
-  };
-  const Vec3d na = (a[1] - a[0]).cross(a[2] - a[0]), nb = (b[1] - b[0]).cross(b[2] - b[0]);
-  test(na);
-  test(nb);
-  for (std::size_t i = 0; i < 3; ++i) {
-    const Vec3d ea = a[(i + 1) % 3] - a[i], eb = b[(i + 1) % 3] - b[i];
-    test(na.cross(ea));
-    test(nb.cross(eb));
-    for (std::size_t j = 0; j < 3; ++j) test(ea.cross(b[(j + 1) % 3] - b[j]));
-  }
-  return best;
-}
-
 // Brute force over all triangle pairs by the double gap: intersecting pairs (gap <= 0) must be
 // reported, pairs apart by more than `spec` must not; in between the gap is only a lower bound
 // of the distance, so a pair may or may not be within `spec` (the test checks the reported
@@ -460,7 +434,7 @@ BrutePairs bruteForcePairs(const TriangleMesh& a, const Transform& pa, const Tri
   };
   for (std::uint32_t i = 0; i < a.triangles().size(); ++i)
     for (std::uint32_t j = 0; j < b.triangles().size(); ++j) {
-      const double gap = triangleGapD(world(a, i, pa), world(b, j, pb));
+      const double gap = triangleGap(world(a, i, pa), world(b, j, pb));
       out.gap[{i, j}] = gap;
       if (gap < -kTol) out.sure.insert({i, j});
       else if (gap < spec + kTol) out.possible.insert({i, j});

@@ -17,41 +17,16 @@ using namespace inertia::test;
 
 namespace {
 
-using Tri = std::array<Vec3d, 3>;
+using Tri = TriangleD;
 
 // ---- Double-precision oracle, written apart from the library ------------------------------
-
-// Closest points of two segments (clamped, Ericson 5.1.9), squared distance.
-double segmentSegment2(const Vec3d& p0, const Vec3d& p1, const Vec3d& q0, const Vec3d& q1) {
-  const Vec3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
-  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
-  double s = 0, t = 0;
-  if (a <= 1e-300 && e <= 1e-300) return r.squaredNorm();
-  if (a <= 1e-300) {
-    t = std::clamp(f / e, 0.0, 1.0);
-  } else {
-    const double c = d1.dot(r);
-    if (e <= 1e-300) {
-      s = std::clamp(-c / a, 0.0, 1.0);
-    } else {
-      const double b = d1.dot(d2), den = a * e - b * b;
-      s = den > 0 ? std::clamp((b * f - c * e) / den, 0.0, 1.0) : 0.0;
-      t = (b * s + f) / e;
-      if (t < 0)
-        t = 0, s = std::clamp(-c / a, 0.0, 1.0);
-      else if (t > 1)
-        t = 1, s = std::clamp((b - c) / a, 0.0, 1.0);
-    }
-  }
-  return (p0 + s * d1 - (q0 + t * d2)).squaredNorm();
-}
 
 // Distance of a point to a triangle: the plane when the projection lies inside, else the
 // nearest edge (a zero-area triangle is its edges).
 double pointTriangle(const Vec3d& p, const Tri& t) {
   double best = 1e300;
   for (std::size_t k = 0; k < 3; ++k)
-    best = std::min(best, segmentSegment2(p, p, t[k], t[(k + 1) % 3]));
+    best = std::min(best, segmentDistance2(p, p, t[k], t[(k + 1) % 3]));
   const Vec3d n = (t[1] - t[0]).cross(t[2] - t[0]);
   if (n.squaredNorm() > 1e-30) {
     const Vec3d u = n.normalized();
@@ -64,40 +39,15 @@ double pointTriangle(const Vec3d& p, const Tri& t) {
   return std::sqrt(best);
 }
 
-// The triangle-triangle gap over the 17 separating axes (<= 0: they intersect).
-double triangleGapD(const Tri& a, const Tri& b) {
-  double best = -1e300;
-  const auto test = [&](const Vec3d& axis) {
-    if (axis.norm() < 1e-12) return;
-    const Vec3d u = axis.normalized();
-    double minA = 1e300, maxA = -1e300, minB = 1e300, maxB = -1e300;
-    for (std::size_t k = 0; k < 3; ++k) {
-      minA = std::min(minA, u.dot(a[k])), maxA = std::max(maxA, u.dot(a[k]));
-      minB = std::min(minB, u.dot(b[k])), maxB = std::max(maxB, u.dot(b[k]));
-    }
-    best = std::max(best, std::max(minB - maxA, minA - maxB));
-  };
-  const Vec3d na = (a[1] - a[0]).cross(a[2] - a[0]), nb = (b[1] - b[0]).cross(b[2] - b[0]);
-  test(na);
-  test(nb);
-  for (std::size_t i = 0; i < 3; ++i) {
-    const Vec3d ea = a[(i + 1) % 3] - a[i], eb = b[(i + 1) % 3] - b[i];
-    test(na.cross(ea));
-    test(nb.cross(eb));
-    for (std::size_t j = 0; j < 3; ++j) test(ea.cross(b[(j + 1) % 3] - b[j]));
-  }
-  return best;
-}
-
 // Exact triangle distance in double: 0 when the separating-axis gap says they intersect, else
 // the nearest of the 6 vertex-face and 9 edge-edge pairs.
 double triangleDistanceD(const Tri& a, const Tri& b) {
-  if (triangleGapD(a, b) <= 0) return 0;
+  if (triangleGap(a, b) <= 0) return 0;
   double best = 1e300;
   for (std::size_t k = 0; k < 3; ++k) {
     best = std::min({best, pointTriangle(a[k], b), pointTriangle(b[k], a)});
     for (std::size_t j = 0; j < 3; ++j)
-      best = std::min(best, std::sqrt(segmentSegment2(a[k], a[(k + 1) % 3], b[j], b[(j + 1) % 3])));
+      best = std::min(best, std::sqrt(segmentDistance2(a[k], a[(k + 1) % 3], b[j], b[(j + 1) % 3])));
   }
   return best;
 }
