@@ -6,6 +6,7 @@
 
 #include "inertia/core/error.h"
 #include "inertia/particles/particle_system.h"
+#include "particle_test_util.h"
 
 using namespace inertia;
 
@@ -17,12 +18,10 @@ ParticleSystem systemWith(ode::Method method, std::vector<ForceField> fields, st
   return ps;
 }
 
+// The shared immortal particle, with a mass (the closed forms below use 1 kg by default).
 ParticlePool::Spawn particle(const Vec3& x, const Vec3& v, Real m = 1) {
-  ParticlePool::Spawn s;
-  s.position = x;
-  s.velocity = v;
+  ParticlePool::Spawn s = test::particle(x, v);
   s.mass = m;
-  s.lifetime = std::numeric_limits<Real>::infinity();
   return s;
 }
 
