@@ -132,6 +132,15 @@ struct ContactExtra {
   Vec3 localNormal = Vec3::UnitY();
   std::array<Vec3, 4> localA;
   std::array<Vec3, 4> localB;
+
+  /// Keeps the manifold reuse fields and resets the rest as a new record has them.
+  ContactExtra& restart() {
+    tangentImpulse.fill(Vec3::Zero());
+    angularImpulse = Vec3::Zero();
+    approach = 0;
+    touching = false;
+    return *this;
+  }
 };
 
 // What the narrow phase found for one chunk of pairs.
@@ -902,12 +911,8 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
               p.pointB = poseB.apply(pe.localB[static_cast<std::size_t>(k)]);
               p.separation = (p.pointB - p.pointA).dot(m.normal);
             }
-            ContactExtra& e = out.extras.emplace_back();
-            e.reusable = true;
-            e.relative = pe.relative;
-            e.localNormal = pe.localNormal;
-            e.localA = pe.localA;
-            e.localB = pe.localB;
+            // Last step's record carries the manifold's frames; the rest starts afresh.
+            out.extras.emplace_back(pe).restart();
             continue;
           }
         }
