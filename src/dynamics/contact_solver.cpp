@@ -196,7 +196,6 @@ void packLane(WideConstraint& w, WideInertia& inertia, int l, const ContactConst
   w.bodyB[std::size_t(l)] = c.bodyB;
   if (a.invMass > 0) w.writeA |= 1u << l;
   if (b.invMass > 0) w.writeB |= 1u << l;
-  w.pointCount = std::max(w.pointCount, c.pointCount);
   w.lanePoints.lane[l] = Real(c.pointCount);
   w.invMassA.lane[l] = a.invMass;
   w.invMassB.lane[l] = b.invMass;
@@ -285,6 +284,7 @@ void ContactBundles::build(const std::vector<ContactConstraint>& cs,
       w.bodyA.fill(-1);
       w.bodyB.fill(-1);
       w.lanes = lanes;
+      w.pointCount = points;
       WideInertia inertia{};
       for (int l = 0; l < w.lanes; ++l) {
         const std::uint32_t k = members[first + std::size_t(l)];

@@ -232,11 +232,8 @@ class ContactBundles {
   /// Writes the impulses, approach speeds and largest impulses back into `cs`.
   void store(std::vector<ContactConstraint>& cs) const;
 
-  using Bundles = std::vector<WideConstraint, DefaultInitAllocator<WideConstraint>>;
-  const Bundles& bundles() const { return bundles_; }
-
  private:
-  Bundles bundles_;
+  std::vector<WideConstraint, DefaultInitAllocator<WideConstraint>> bundles_;
   std::vector<std::uint32_t> groupOffsets_;  ///< Colour g is bundles_[offsets[g], offsets[g + 1]).
   bool overflow_ = false;                    ///< The last group runs in sequence.
   std::vector<std::uint32_t> members_;       ///< Scratch of build(): one colour's constraints.
