@@ -10,7 +10,7 @@
 namespace inertia::detail {
 
 /// Instruction sets of the kernels, in increasing width.
-enum class SimdLevel : std::uint8_t { Scalar, Sse2, Avx2 };
+enum class SimdLevel : std::uint8_t { Scalar, Sse2, Avx2, Avx512 };
 
 inline const char* simdLevelName(SimdLevel level) {
   switch (level) {
@@ -20,16 +20,20 @@ inline const char* simdLevelName(SimdLevel level) {
       return "SSE2";
     case SimdLevel::Avx2:
       return "AVX2";
+    case SimdLevel::Avx512:
+      return "AVX-512";
   }
   return "?";
 }
 
-/// The widest set this processor runs: AVX2 or SSE2 (the x86-64 baseline) on x86, scalar
-/// elsewhere. Detected once.
+/// The widest set this processor (and its operating system, which must save the wider
+/// registers) runs: AVX-512 (the F subset), AVX2 or SSE2 (the x86-64 baseline) on x86,
+/// scalar elsewhere. Detected once.
 inline SimdLevel cpuSimdLevel() {
 #if defined(__x86_64__) || defined(__i386__)
   static const SimdLevel level = [] {
     __builtin_cpu_init();
+    if (__builtin_cpu_supports("avx512f")) return SimdLevel::Avx512;
     return __builtin_cpu_supports("avx2") ? SimdLevel::Avx2 : SimdLevel::Sse2;
   }();
   return level;

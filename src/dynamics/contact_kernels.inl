@@ -1,21 +1,31 @@
 // The contact solver's passes over bundles (contact_solver.h), written once for lanes of
 // SIMD registers. contact_solver.cpp includes this file once per instruction set, each time
 // in its own namespace and with INERTIA_PACK_BYTES set to the native vector width (16: SSE2,
-// 32: AVX2), so no inline function is shared between the two builds.
+// 32: AVX2, 64: AVX-512), so no inline function is shared between the builds.
 //
 // Every operation is lane-wise IEEE arithmetic (the project compiles with -ffp-contract=off
-// and neither build enables FMA), so a lane computes the same bits in either build and in a
-// bundle of one constraint as in a full one.
+// and no build enables FMA), so a lane computes the same bits in every build and in a bundle
+// of one constraint as in a full one.
 
 // GCC's generic vectors: one native register, and the integer vector its comparisons give.
 using Native = Real __attribute__((vector_size(INERTIA_PACK_BYTES)));
 using NativeMask = decltype(Native{} < Native{});
 inline constexpr int kPerNative = INERTIA_PACK_BYTES / int(sizeof(Real));
-inline constexpr int kNatives = kLanes / kPerNative;
-static_assert(kNatives * kPerNative == kLanes);
+// A kernel runs a bundle slice by slice. A slice is 32 bytes of lanes in the SSE2 and AVX2
+// builds: their sixteen registers hold one slice's two bodies (twelve values), and a wider
+// slice would spill. The AVX-512 build has thirty-two registers and runs the whole bundle.
+inline constexpr int kSliceLanes = std::max(kPerNative, int(32 / sizeof(Real)));
+inline constexpr int kNatives = kSliceLanes / kPerNative;
+inline constexpr int kSlices = kLanes / kSliceLanes;
+static_assert(kNatives * kPerNative == kSliceLanes && kSlices * kSliceLanes == kLanes);
 
 inline Native nativeSqrt(Native x) {
-#if INERTIA_PACK_BYTES == 32 && defined(INERTIA_DOUBLE)
+// _mm512_sqrt_* reads an undefined source that GCC 12 warns of; the masked form has none.
+#if INERTIA_PACK_BYTES == 64 && defined(INERTIA_DOUBLE)
+  return Native(_mm512_mask_sqrt_pd(__m512d(x), __mmask8(0xFF), __m512d(x)));
+#elif INERTIA_PACK_BYTES == 64
+  return Native(_mm512_mask_sqrt_ps(__m512(x), __mmask16(0xFFFF), __m512(x)));
+#elif INERTIA_PACK_BYTES == 32 && defined(INERTIA_DOUBLE)
   return Native(_mm256_sqrt_pd(__m256d(x)));
 #elif INERTIA_PACK_BYTES == 32
   return Native(_mm256_sqrt_ps(__m256(x)));
@@ -31,7 +41,11 @@ inline Native nativeSqrt(Native x) {
 
 // Whether any lane of a comparison's result is set.
 inline bool nativeAny(NativeMask m) {
-#if INERTIA_PACK_BYTES == 32 && defined(INERTIA_DOUBLE)
+#if INERTIA_PACK_BYTES == 64 && defined(INERTIA_DOUBLE)
+  return _mm512_test_epi64_mask(__m512i(m), __m512i(m)) != 0;
+#elif INERTIA_PACK_BYTES == 64
+  return _mm512_test_epi32_mask(__m512i(m), __m512i(m)) != 0;
+#elif INERTIA_PACK_BYTES == 32 && defined(INERTIA_DOUBLE)
   return _mm256_movemask_pd(__m256d(m)) != 0;
 #elif INERTIA_PACK_BYTES == 32
   return _mm256_movemask_ps(__m256(m)) != 0;
@@ -46,16 +60,16 @@ inline bool nativeAny(NativeMask m) {
 #endif
 }
 
-/// The kLanes values of a WideReal in registers.
+/// One slice's kSliceLanes values in registers.
 struct Pack {
   Native n[kNatives];
 
-  static Pack load(const WideReal& w) {
+  static Pack load(const Real* lanes) {
     Pack p;
-    std::memcpy(p.n, w.lane, sizeof p.n);
+    std::memcpy(p.n, lanes, sizeof p.n);
     return p;
   }
-  void store(WideReal& w) const { std::memcpy(w.lane, n, sizeof n); }
+  void store(Real* lanes) const { std::memcpy(lanes, n, sizeof n); }
   static Pack splat(Real x) {
     Pack p;
     for (Native& v : p.n) v = Native{} + x;
@@ -124,9 +138,6 @@ INERTIA_PACK_CMP(!=)
 struct V3 {
   Pack x, y, z;
 };
-[[gnu::always_inline]] inline V3 load3(const WideReal (&w)[3]) {
-  return {Pack::load(w[0]), Pack::load(w[1]), Pack::load(w[2])};
-}
 [[gnu::always_inline]] inline Pack dot(const V3& a, const V3& b) {
   return a.x * b.x + a.y * b.y + a.z * b.z;
 }
@@ -150,19 +161,33 @@ struct V3 {
 [[gnu::always_inline]] inline V3 cross(const V3& a, const V3& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-// A row-major 3x3 matrix per lane times v.
-[[gnu::always_inline]] inline V3 multiply(const WideReal (&m)[9], const V3& v) {
-  auto row = [&](int r) {
-    return Pack::load(m[3 * r]) * v.x + Pack::load(m[3 * r + 1]) * v.y +
-           Pack::load(m[3 * r + 2]) * v.z;
-  };
-  return {row(0), row(1), row(2)};
-}
-[[gnu::always_inline]] inline void store3(const V3& v, WideReal (&w)[3]) {
-  v.x.store(w[0]);
-  v.y.store(w[1]);
-  v.z.store(w[2]);
-}
+/// Lanes [first, first + kSliceLanes) of a bundle's values: `at(w)` loads them, `at.store`
+/// writes them.
+struct Slice {
+  int first = 0;
+
+  [[gnu::always_inline]] Pack operator()(const WideReal& w) const {
+    return Pack::load(w.lane + first);
+  }
+  [[gnu::always_inline]] V3 operator()(const WideReal (&w)[3]) const {
+    return {(*this)(w[0]), (*this)(w[1]), (*this)(w[2])};
+  }
+  [[gnu::always_inline]] void store(const Pack& p, WideReal& w) const {
+    p.store(w.lane + first);
+  }
+  [[gnu::always_inline]] void store(const V3& v, WideReal (&w)[3]) const {
+    store(v.x, w[0]);
+    store(v.y, w[1]);
+    store(v.z, w[2]);
+  }
+  // A row-major 3x3 matrix per lane times v.
+  [[gnu::always_inline]] V3 multiply(const WideReal (&m)[9], const V3& v) const {
+    auto row = [&](int r) {
+      return (*this)(m[3 * r]) * v.x + (*this)(m[3 * r + 1]) * v.y + (*this)(m[3 * r + 2]) * v.z;
+    };
+    return {row(0), row(1), row(2)};
+  }
+};
 
 /// The velocities of a bundle's bodies on one side, lane by lane.
 struct Side {
@@ -170,11 +195,11 @@ struct Side {
 };
 
 // Static bodies and empty lanes read zero velocities.
-[[gnu::always_inline]] inline Side gather(const std::array<int, kLanes>& index,
+[[gnu::always_inline]] inline Side gather(const std::array<int, kLanes>& index, const Slice& at,
                                           const SolverBody* bodies) {
-  alignas(32) Real c[6][kLanes];
-  for (int l = 0; l < kLanes; ++l) {
-    const int i = index[std::size_t(l)];
+  alignas(64) Real c[6][kSliceLanes];
+  for (int l = 0; l < kSliceLanes; ++l) {
+    const int i = index[std::size_t(at.first + l)];
     if (i >= 0) {
       const SolverBody& b = bodies[i];
       c[0][l] = b.v.x(), c[1][l] = b.v.y(), c[2][l] = b.v.z();
@@ -194,13 +219,14 @@ struct Side {
 // Only moving bodies are written: lanes of a bundle never share one, while static and
 // kinematic bodies (unchanged by impulses) may appear in several lanes and threads.
 [[gnu::always_inline]] inline void scatter(const Side& s, const std::array<int, kLanes>& index,
-                                           std::uint32_t write, SolverBody* bodies) {
-  alignas(32) Real c[6][kLanes];
+                                           std::uint32_t write, const Slice& at,
+                                           SolverBody* bodies) {
+  alignas(64) Real c[6][kSliceLanes];
   const Pack* parts[6] = {&s.v.x, &s.v.y, &s.v.z, &s.w.x, &s.w.y, &s.w.z};
   for (int r = 0; r < 6; ++r) std::memcpy(c[r], parts[r]->n, sizeof c[r]);
-  for (int l = 0; l < kLanes; ++l) {
-    if (!((write >> l) & 1u)) continue;
-    SolverBody& b = bodies[index[std::size_t(l)]];
+  for (int l = 0; l < kSliceLanes; ++l) {
+    if (!((write >> (at.first + l)) & 1u)) continue;
+    SolverBody& b = bodies[index[std::size_t(at.first + l)]];
     b.v = Vec3(c[0][l], c[1][l], c[2][l]);
     b.w = Vec3(c[3][l], c[4][l], c[5][l]);
   }
@@ -226,19 +252,20 @@ struct Side {
 // The rolling and spinning impulses L = sum of impulse * axis, applied through the inverse
 // inertias' images of the axes.
 [[gnu::always_inline]] inline void applyAngular(Side& a, Side& b, const WideConstraint& c,
-                                                const Pack& roll0, const Pack& roll1,
+                                                const Slice& at, const Pack& roll0, const Pack& roll1,
                                                 const Pack& spin) {
-  subtract(a.w, roll0 * load3(c.iaT[0]));
-  subtract(a.w, roll1 * load3(c.iaT[1]));
-  subtract(a.w, spin * load3(c.iaN));
-  add(b.w, roll0 * load3(c.ibT[0]));
-  add(b.w, roll1 * load3(c.ibT[1]));
-  add(b.w, spin * load3(c.ibN));
+  subtract(a.w, roll0 * at(c.iaT[0]));
+  subtract(a.w, roll1 * at(c.iaT[1]));
+  subtract(a.w, spin * at(c.iaN));
+  add(b.w, roll0 * at(c.ibT[0]));
+  add(b.w, roll1 * at(c.ibT[1]));
+  add(b.w, spin * at(c.ibN));
 }
 
-[[gnu::always_inline]] inline Pack separation(const WideConstraint& c, const WidePoint& p) {
-  return Pack::load(c.offset) + dot(load3(c.movedB), load3(p.rB)) -
-         dot(load3(c.movedA), load3(p.rA)) + Pack::load(p.adjustedSeparation);
+[[gnu::always_inline]] inline Pack separation(const WideConstraint& c, const WidePoint& p,
+                                              const Slice& at) {
+  return at(c.offset) + dot(at(c.movedB), at(p.rB)) - dot(at(c.movedA), at(p.rA)) +
+         at(p.adjustedSeparation);
 }
 
 // 1 / k for the effective mass k of a row, 0 for a row that no impulse can move (k = 0).
@@ -250,61 +277,61 @@ struct Side {
 // The rows' angular Jacobians r x d, their images under the inverse inertias, and the
 // effective masses, as computeMasses() does for one constraint. Points beyond a lane's own
 // count keep masses of zero.
-void prepareBundle(WideConstraint& c, const WideInertia& inertia) {
-  const Pack mSum = Pack::load(c.invMassA) + Pack::load(c.invMassB);
-  const V3 n = load3(c.normal);
-  const V3 t[2] = {load3(c.tangent[0]), load3(c.tangent[1])};
-  const Pack points = Pack::load(c.lanePoints), zero = Pack::zero();
+void prepareSlice(WideConstraint& c, const WideInertia& inertia, const Slice& at) {
+  const Pack mSum = at(c.invMassA) + at(c.invMassB);
+  const V3 n = at(c.normal);
+  const V3 t[2] = {at(c.tangent[0]), at(c.tangent[1])};
+  const Pack points = at(c.lanePoints), zero = Pack::zero();
   for (int i = 0; i < c.pointCount; ++i) {
     WidePoint& p = c.points[std::size_t(i)];
     const Mask real = points > Pack::splat(Real(i));
-    const V3 rA = load3(p.rA), rB = load3(p.rB);
+    const V3 rA = at(p.rA), rB = at(p.rB);
     // One row: returns its effective mass, stores its Jacobians.
     auto row = [&](const V3& d, WideReal (&ra)[3], WideReal (&rb)[3], WideReal (&wa)[3],
                    WideReal (&wb)[3]) {
       const V3 rdA = cross(rA, d), rdB = cross(rB, d);
-      const V3 wdA = multiply(inertia.a, rdA), wdB = multiply(inertia.b, rdB);
-      store3(rdA, ra);
-      store3(rdB, rb);
-      store3(wdA, wa);
-      store3(wdB, wb);
+      const V3 wdA = at.multiply(inertia.a, rdA), wdB = at.multiply(inertia.b, rdB);
+      at.store(rdA, ra);
+      at.store(rdB, rb);
+      at.store(wdA, wa);
+      at.store(wdB, wb);
       return select(real, invEffective(mSum + dot(rdA, wdA) + dot(rdB, wdB)), zero);
     };
-    row(n, p.rnA, p.rnB, p.wnA, p.wnB).store(p.normalMass);
+    at.store(row(n, p.rnA, p.rnB, p.wnA, p.wnB), p.normalMass);
     for (int k = 0; k < 2; ++k)
-      row(t[k], p.rtA[k], p.rtB[k], p.wtA[k], p.wtB[k]).store(p.tangentMass[k]);
+      at.store(row(t[k], p.rtA[k], p.rtB[k], p.wtA[k], p.wtB[k]), p.tangentMass[k]);
   }
   if (c.angular) {
     for (int k = 0; k < 2; ++k) {
-      const V3 ia = multiply(inertia.a, t[k]), ib = multiply(inertia.b, t[k]);
-      store3(ia, c.iaT[k]);
-      store3(ib, c.ibT[k]);
-      invEffective(dot(t[k], ia) + dot(t[k], ib)).store(c.rollingMass[k]);
+      const V3 ia = at.multiply(inertia.a, t[k]), ib = at.multiply(inertia.b, t[k]);
+      at.store(ia, c.iaT[k]);
+      at.store(ib, c.ibT[k]);
+      at.store(invEffective(dot(t[k], ia) + dot(t[k], ib)), c.rollingMass[k]);
     }
-    const V3 ia = multiply(inertia.a, n), ib = multiply(inertia.b, n);
-    store3(ia, c.iaN);
-    store3(ib, c.ibN);
-    invEffective(dot(n, ia) + dot(n, ib)).store(c.spinningMass);
+    const V3 ia = at.multiply(inertia.a, n), ib = at.multiply(inertia.b, n);
+    at.store(ia, c.iaN);
+    at.store(ib, c.ibN);
+    at.store(invEffective(dot(n, ia) + dot(n, ib)), c.spinningMass);
   }
 }
 
-void warmStartBundle(const WideConstraint& c, SolverBody* bodies) {
-  Side a = gather(c.bodyA, bodies), b = gather(c.bodyB, bodies);
-  const Pack mA = Pack::load(c.invMassA), mB = Pack::load(c.invMassB);
-  const V3 n = load3(c.normal);
-  const V3 t[2] = {load3(c.tangent[0]), load3(c.tangent[1])};
+void warmStartSlice(const WideConstraint& c, const Slice& at, SolverBody* bodies) {
+  Side a = gather(c.bodyA, at, bodies), b = gather(c.bodyB, at, bodies);
+  const Pack mA = at(c.invMassA), mB = at(c.invMassB);
+  const V3 n = at(c.normal);
+  const V3 t[2] = {at(c.tangent[0]), at(c.tangent[1])};
   for (int i = 0; i < c.pointCount; ++i) {
     const WidePoint& p = c.points[std::size_t(i)];
-    applyRow(a, b, mA, mB, n, load3(p.wnA), load3(p.wnB), Pack::load(p.normalImpulse));
+    applyRow(a, b, mA, mB, n, at(p.wnA), at(p.wnB), at(p.normalImpulse));
     for (int k = 0; k < 2; ++k)
-      applyRow(a, b, mA, mB, t[k], load3(p.wtA[k]), load3(p.wtB[k]),
-               Pack::load(p.tangentImpulse[k]));
+      applyRow(a, b, mA, mB, t[k], at(p.wtA[k]), at(p.wtB[k]),
+               at(p.tangentImpulse[k]));
   }
   if (c.angular)
-    applyAngular(a, b, c, Pack::load(c.rollingImpulse[0]), Pack::load(c.rollingImpulse[1]),
-                 Pack::load(c.spinningImpulse));
-  scatter(a, c.bodyA, c.writeA, bodies);
-  scatter(b, c.bodyB, c.writeB, bodies);
+    applyAngular(a, b, c, at, at(c.rollingImpulse[0]), at(c.rollingImpulse[1]),
+                 at(c.spinningImpulse));
+  scatter(a, c.bodyA, c.writeA, at, bodies);
+  scatter(b, c.bodyB, c.writeB, at, bodies);
 }
 
 // Clamps the 2-vector (x, y) to the disc of radius `limit`. When no lane is outside (every
@@ -320,10 +347,10 @@ void warmStartBundle(const WideConstraint& c, SolverBody* bodies) {
   y = y * scale;
 }
 
-void solveBundle(WideConstraint& c, SolverBody* bodies, const BiasMode& mode) {
-  Side a = gather(c.bodyA, bodies), b = gather(c.bodyB, bodies);
-  const Pack mA = Pack::load(c.invMassA), mB = Pack::load(c.invMassB);
-  const V3 n = load3(c.normal);
+void solveSlice(WideConstraint& c, const Slice& at, SolverBody* bodies, const BiasMode& mode) {
+  Side a = gather(c.bodyA, at, bodies), b = gather(c.bodyB, at, bodies);
+  const Pack mA = at(c.invMassA), mB = at(c.invMassB);
+  const V3 n = at(c.normal);
   const Pack zero = Pack::zero(), one = Pack::splat(1);
   const Pack invH = Pack::splat(mode.invH);
   const Pack push = Pack::splat(-mode.pushVelocity);
@@ -332,14 +359,14 @@ void solveBundle(WideConstraint& c, SolverBody* bodies, const BiasMode& mode) {
   // Non-penetration rows.
   for (int i = 0; i < c.pointCount; ++i) {
     WidePoint& p = c.points[std::size_t(i)];
-    const Pack s = separation(c, p);
+    const Pack s = separation(c, p, at);
     // s > 0: speculative, the gap may close within this substep, no more.
     Pack bias = zero, massScale = one, impulseScale = zero;
     if (mode.useBias) {
       if (mode.soft) {
-        bias = max(Pack::load(c.biasRate) * s, push);
-        massScale = Pack::load(c.massScale);
-        impulseScale = Pack::load(c.impulseScale);
+        bias = max(at(c.biasRate) * s, push);
+        massScale = at(c.massScale);
+        impulseScale = at(c.impulseScale);
       } else {
         // Baumgarte: feed back a fraction of the overlap beyond the slop.
         bias = max(Pack::splat(mode.baumgarte) * invH * min(s + Pack::splat(mode.linearSlop), zero),
@@ -351,33 +378,33 @@ void solveBundle(WideConstraint& c, SolverBody* bodies, const BiasMode& mode) {
     massScale = select(open, one, massScale);
     impulseScale = select(open, zero, impulseScale);
 
-    const Pack vn = rowVelocity(a, b, n, load3(p.rnA), load3(p.rnB));
-    const Pack accumulated = Pack::load(p.normalImpulse);
+    const Pack vn = rowVelocity(a, b, n, at(p.rnA), at(p.rnB));
+    const Pack accumulated = at(p.normalImpulse);
     const Pack impulse0 =
-        -Pack::load(p.normalMass) * massScale * (vn + bias) - impulseScale * accumulated;
+        -at(p.normalMass) * massScale * (vn + bias) - impulseScale * accumulated;
     const Pack updated = max(accumulated + impulse0, zero);
     const Pack impulse = updated - accumulated;
-    updated.store(p.normalImpulse);
-    max(Pack::load(p.maxNormalImpulse), impulse).store(p.maxNormalImpulse);
+    at.store(updated, p.normalImpulse);
+    at.store(max(at(p.maxNormalImpulse), impulse), p.maxNormalImpulse);
     totalNormal += updated;
-    applyRow(a, b, mA, mB, n, load3(p.wnA), load3(p.wnB), impulse);
+    applyRow(a, b, mA, mB, n, at(p.wnA), at(p.wnB), impulse);
   }
 
   // Coulomb friction: the tangential impulse stays in the disc of radius mu * normal.
-  const V3 t[2] = {load3(c.tangent[0]), load3(c.tangent[1])};
-  const Pack friction = Pack::load(c.friction);
+  const V3 t[2] = {at(c.tangent[0]), at(c.tangent[1])};
+  const Pack friction = at(c.friction);
   for (int i = 0; i < c.pointCount; ++i) {
     WidePoint& p = c.points[std::size_t(i)];
     Pack old[2], updated[2];
     for (int k = 0; k < 2; ++k) {
-      old[k] = Pack::load(p.tangentImpulse[k]);
-      updated[k] = old[k] - Pack::load(p.tangentMass[k]) *
-                                rowVelocity(a, b, t[k], load3(p.rtA[k]), load3(p.rtB[k]));
+      old[k] = at(p.tangentImpulse[k]);
+      updated[k] = old[k] - at(p.tangentMass[k]) *
+                                rowVelocity(a, b, t[k], at(p.rtA[k]), at(p.rtB[k]));
     }
-    clampDisc(updated[0], updated[1], friction * Pack::load(p.normalImpulse));
+    clampDisc(updated[0], updated[1], friction * at(p.normalImpulse));
     for (int k = 0; k < 2; ++k) {
-      applyRow(a, b, mA, mB, t[k], load3(p.wtA[k]), load3(p.wtB[k]), updated[k] - old[k]);
-      updated[k].store(p.tangentImpulse[k]);
+      applyRow(a, b, mA, mB, t[k], at(p.wtA[k]), at(p.wtB[k]), updated[k] - old[k]);
+      at.store(updated[k], p.tangentImpulse[k]);
     }
   }
 
@@ -385,76 +412,89 @@ void solveBundle(WideConstraint& c, SolverBody* bodies, const BiasMode& mode) {
   // without them has a limit of zero and keeps impulses of zero.
   if (c.angular) {
     const V3 dw = b.w - a.w;
-    const Pack old[2] = {Pack::load(c.rollingImpulse[0]), Pack::load(c.rollingImpulse[1])};
+    const Pack old[2] = {at(c.rollingImpulse[0]), at(c.rollingImpulse[1])};
     Pack roll[2];
     for (int k = 0; k < 2; ++k)
-      roll[k] = old[k] - Pack::load(c.rollingMass[k]) * dot(dw, t[k]);
-    clampDisc(roll[0], roll[1], Pack::load(c.rolling) * totalNormal);
-    const Pack limit = Pack::load(c.spinning) * totalNormal;
-    const Pack oldSpin = Pack::load(c.spinningImpulse);
+      roll[k] = old[k] - at(c.rollingMass[k]) * dot(dw, t[k]);
+    clampDisc(roll[0], roll[1], at(c.rolling) * totalNormal);
+    const Pack limit = at(c.spinning) * totalNormal;
+    const Pack oldSpin = at(c.spinningImpulse);
     const Pack spin =
-        min(max(oldSpin - Pack::load(c.spinningMass) * dot(dw, n), -limit), limit);
-    applyAngular(a, b, c, roll[0] - old[0], roll[1] - old[1], spin - oldSpin);
-    roll[0].store(c.rollingImpulse[0]);
-    roll[1].store(c.rollingImpulse[1]);
-    spin.store(c.spinningImpulse);
+        min(max(oldSpin - at(c.spinningMass) * dot(dw, n), -limit), limit);
+    applyAngular(a, b, c, at, roll[0] - old[0], roll[1] - old[1], spin - oldSpin);
+    at.store(roll[0], c.rollingImpulse[0]);
+    at.store(roll[1], c.rollingImpulse[1]);
+    at.store(spin, c.spinningImpulse);
   }
-  scatter(a, c.bodyA, c.writeA, bodies);
-  scatter(b, c.bodyB, c.writeB, bodies);
+  scatter(a, c.bodyA, c.writeA, at, bodies);
+  scatter(b, c.bodyB, c.writeB, at, bodies);
 }
 
-void updateApproachBundle(WideConstraint& c, const SolverBody* bodies) {
-  const Side a = gather(c.bodyA, bodies), b = gather(c.bodyB, bodies);
-  const V3 n = load3(c.normal);
+void updateApproachSlice(WideConstraint& c, const Slice& at, const SolverBody* bodies) {
+  const Side a = gather(c.bodyA, at, bodies), b = gather(c.bodyB, at, bodies);
+  const V3 n = at(c.normal);
   const Pack zero = Pack::zero();
-  const Mask bouncy = Pack::load(c.restitution) != zero;
+  const Mask bouncy = at(c.restitution) != zero;
   for (int i = 0; i < c.pointCount; ++i) {
     WidePoint& p = c.points[std::size_t(i)];
     const Mask take =
-        bouncy & (Pack::load(p.maxNormalImpulse) == zero) & (separation(c, p) > zero);
-    select(take, rowVelocity(a, b, n, load3(p.rnA), load3(p.rnB)),
-           Pack::load(p.relativeVelocity))
-        .store(p.relativeVelocity);
+        bouncy & (at(p.maxNormalImpulse) == zero) & (separation(c, p, at) > zero);
+    at.store(select(take, rowVelocity(a, b, n, at(p.rnA), at(p.rnB)), at(p.relativeVelocity)),
+             p.relativeVelocity);
   }
 }
 
-void restitutionBundle(WideConstraint& c, SolverBody* bodies, Real threshold) {
-  Side a = gather(c.bodyA, bodies), b = gather(c.bodyB, bodies);
-  const Pack mA = Pack::load(c.invMassA), mB = Pack::load(c.invMassB);
-  const V3 n = load3(c.normal);
+void restitutionSlice(WideConstraint& c, const Slice& at, SolverBody* bodies, Real threshold) {
+  Side a = gather(c.bodyA, at, bodies), b = gather(c.bodyB, at, bodies);
+  const Pack mA = at(c.invMassA), mB = at(c.invMassB);
+  const V3 n = at(c.normal);
   const Pack zero = Pack::zero();
-  const Pack e = Pack::load(c.restitution);
+  const Pack e = at(c.restitution);
   const Mask bouncy = e != zero;
   for (int i = 0; i < c.pointCount; ++i) {
     WidePoint& p = c.points[std::size_t(i)];
-    const Pack approach = Pack::load(p.relativeVelocity);
-    const Pack maxImpulse = Pack::load(p.maxNormalImpulse);
+    const Pack approach = at(p.relativeVelocity);
+    const Pack maxImpulse = at(p.maxNormalImpulse);
     const Mask hit = bouncy & (approach <= Pack::splat(-threshold)) & (maxImpulse != zero);
-    const Pack vn = rowVelocity(a, b, n, load3(p.rnA), load3(p.rnB));
-    const Pack accumulated = Pack::load(p.normalImpulse);
-    const Pack wanted = select(hit, -Pack::load(p.normalMass) * (vn + e * approach), zero);
+    const Pack vn = rowVelocity(a, b, n, at(p.rnA), at(p.rnB));
+    const Pack accumulated = at(p.normalImpulse);
+    const Pack wanted = select(hit, -at(p.normalMass) * (vn + e * approach), zero);
     const Pack updated = max(accumulated + wanted, zero);
     const Pack impulse = updated - accumulated;
-    updated.store(p.normalImpulse);
-    max(maxImpulse, impulse).store(p.maxNormalImpulse);
-    applyRow(a, b, mA, mB, n, load3(p.wnA), load3(p.wnB), impulse);
+    at.store(updated, p.normalImpulse);
+    at.store(max(maxImpulse, impulse), p.maxNormalImpulse);
+    applyRow(a, b, mA, mB, n, at(p.wnA), at(p.wnB), impulse);
   }
-  scatter(a, c.bodyA, c.writeA, bodies);
-  scatter(b, c.bodyB, c.writeB, bodies);
+  scatter(a, c.bodyA, c.writeA, at, bodies);
+  scatter(b, c.bodyB, c.writeB, at, bodies);
+}
+
+// Runs `kernel(slice)` on each slice of `c` that has a lane in use.
+template <class Kernel>
+[[gnu::always_inline]] inline void forSlices(const WideConstraint& c, Kernel kernel) {
+  for (int first = 0; first < c.lanes; first += kSliceLanes) kernel(Slice{first});
+}
+
+void prepareBundle(WideConstraint& c, const WideInertia& inertia) {
+  forSlices(c, [&](const Slice& at) { prepareSlice(c, inertia, at); });
 }
 
 // The passes over a range of bundles.
 void warmStartRange(const WideConstraint* c, std::size_t count, SolverBody* bodies) {
-  for (std::size_t k = 0; k < count; ++k) warmStartBundle(c[k], bodies);
+  for (std::size_t k = 0; k < count; ++k)
+    forSlices(c[k], [&](const Slice& at) { warmStartSlice(c[k], at, bodies); });
 }
 void solveRange(WideConstraint* c, std::size_t count, SolverBody* bodies, const BiasMode& mode) {
-  for (std::size_t k = 0; k < count; ++k) solveBundle(c[k], bodies, mode);
+  for (std::size_t k = 0; k < count; ++k)
+    forSlices(c[k], [&](const Slice& at) { solveSlice(c[k], at, bodies, mode); });
 }
 void updateApproachRange(WideConstraint* c, std::size_t count, const SolverBody* bodies) {
   for (std::size_t k = 0; k < count; ++k)
-    if (c[k].bouncy) updateApproachBundle(c[k], bodies);
+    if (c[k].bouncy)
+      forSlices(c[k], [&](const Slice& at) { updateApproachSlice(c[k], at, bodies); });
 }
 void restitutionRange(WideConstraint* c, std::size_t count, SolverBody* bodies, Real threshold) {
   for (std::size_t k = 0; k < count; ++k)
-    if (c[k].bouncy) restitutionBundle(c[k], bodies, threshold);
+    if (c[k].bouncy)
+      forSlices(c[k], [&](const Slice& at) { restitutionSlice(c[k], at, bodies, threshold); });
 }

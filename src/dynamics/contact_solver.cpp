@@ -114,6 +114,16 @@ namespace avx2 {
 #undef INERTIA_PACK_BYTES
 }  // namespace avx2
 #pragma GCC pop_options
+
+// AVX-512F alone: the kernels use 512-bit registers, and the set brings thirty-two of them.
+#pragma GCC push_options
+#pragma GCC target("avx512f")
+namespace avx512 {
+#define INERTIA_PACK_BYTES 64
+#include "contact_kernels.inl"
+#undef INERTIA_PACK_BYTES
+}  // namespace avx512
+#pragma GCC pop_options
 #endif
 
 namespace {
@@ -131,6 +141,8 @@ constexpr Kernels kSse2{sse2::prepareBundle, sse2::warmStartRange, sse2::solveRa
 #ifdef INERTIA_HAVE_AVX2_KERNELS
 constexpr Kernels kAvx2{avx2::prepareBundle, avx2::warmStartRange, avx2::solveRange, avx2::updateApproachRange,
                         avx2::restitutionRange};
+constexpr Kernels kAvx512{avx512::prepareBundle, avx512::warmStartRange, avx512::solveRange,
+                          avx512::updateApproachRange, avx512::restitutionRange};
 #endif
 
 SimdChoice& contactChoice() {
@@ -140,7 +152,14 @@ SimdChoice& contactChoice() {
 
 const Kernels& kernels() {
 #ifdef INERTIA_HAVE_AVX2_KERNELS
-  if (contactChoice().current() == SimdLevel::Avx2) return kAvx2;
+  switch (contactChoice().current()) {
+    case SimdLevel::Avx512:
+      return kAvx512;
+    case SimdLevel::Avx2:
+      return kAvx2;
+    default:
+      break;
+  }
 #endif
   return kSse2;
 }

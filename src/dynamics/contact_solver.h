@@ -119,11 +119,12 @@ struct BiasMode {
   Real linearSlop = Real(0.005);
 };
 
-/// Constraints per bundle: one AVX register of Real (8 floats or 4 doubles).
-inline constexpr int kLanes = int(32 / sizeof(Real));
+/// Constraints per bundle: one AVX-512 register of Real (16 floats or 8 doubles). The SSE2
+/// and AVX2 kernels run a bundle in two slices of 32 bytes.
+inline constexpr int kLanes = int(64 / sizeof(Real));
 
 /// kLanes values, one per constraint of a bundle.
-struct alignas(32) WideReal {
+struct alignas(64) WideReal {
   Real lane[kLanes];
 };
 
@@ -202,7 +203,7 @@ struct WideInertia {
 /// The contact constraints of a step packed into bundles colour by colour: the bundles of a
 /// colour share no moving body, so they run in parallel on an arena with the same result as
 /// in sequence, and the kLanes constraints of a bundle run in the lanes of SIMD registers
-/// (AVX2 when the processor has it, else SSE2; the two give the same bits). The overflow
+/// (AVX-512 or AVX2 when the processor has it, else SSE2; all give the same bits). The overflow
 /// colour is packed one constraint per bundle and runs in sequence. A lane computes exactly
 /// what the constraint would alone, so the result is independent of the packing, the
 /// instruction set and the thread count.
@@ -239,8 +240,8 @@ class ContactBundles {
   std::vector<std::uint32_t> members_;       ///< Scratch of build(): one colour's constraints.
 };
 
-/// The set the bundle kernels can use: AVX2 when the processor has it, else SSE2 (GCC's
-/// generic 16-byte vectors off x86).
+/// The set the bundle kernels can use: AVX-512 or AVX2 when the processor has it, else SSE2
+/// (GCC's generic 16-byte vectors off x86).
 SimdLevel bestContactSimd();
 /// The set the kernels use: bestContactSimd() unless a test forced SSE2.
 SimdLevel contactSimd();

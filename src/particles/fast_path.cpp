@@ -279,7 +279,7 @@ inline void prefetch(const float* p) {
 
 SimdChoice& particleChoice() {
 #if INERTIA_PARTICLES_VECTOR
-  static SimdChoice choice(cpuSimdLevel());
+  static SimdChoice choice(std::min(cpuSimdLevel(), SimdLevel::Avx2));  // no AVX-512 kernels
 #else
   static SimdChoice choice(SimdLevel::Scalar);
 #endif

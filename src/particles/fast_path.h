@@ -15,7 +15,8 @@
 
 namespace inertia::detail {
 
-/// The set the particle kernels can use: cpuSimdLevel() for float, scalar for double.
+/// The set the particle kernels can use: cpuSimdLevel() for float, at most AVX2, scalar for
+/// double.
 SimdLevel bestParticleSimd();
 /// The set the step uses: bestParticleSimd() unless a test forced another.
 SimdLevel particleSimd();
