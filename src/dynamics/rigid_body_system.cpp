@@ -132,13 +132,16 @@ struct ContactExtra {
   Vec3 localNormal = Vec3::UnitY();
   std::array<Vec3, 4> localA;
   std::array<Vec3, 4> localB;
+  // The impulses are last step's already (a reused manifold, whose points are last step's):
+  // the warm start's matching by feature ids skips it.
+  bool carried = false;
 
-  /// Keeps the manifold reuse fields and resets the rest as a new record has them.
-  ContactExtra& restart() {
-    tangentImpulse.fill(Vec3::Zero());
-    angularImpulse = Vec3::Zero();
+  /// Last step's record for its reused manifold: keeps the manifold reuse fields and the
+  /// impulses, and resets the rest as a new record has them.
+  ContactExtra& reuse() {
     approach = 0;
     touching = false;
+    carried = true;
     return *this;
   }
 };
@@ -903,6 +906,7 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
               std::abs(relative.q.dot(pe.relative.q)) > reuseCosine) {
             ContactInfo& info = newContact();
             info.manifold = it->manifold;
+            info.normalImpulses = it->normalImpulses;
             ContactManifold& m = info.manifold;
             m.normal = poseA.rotate(pe.localNormal);
             for (int k = 0; k < m.pointCount; ++k) {
@@ -911,8 +915,8 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
               p.pointB = poseB.apply(pe.localB[static_cast<std::size_t>(k)]);
               p.separation = (p.pointB - p.pointA).dot(m.normal);
             }
-            // Last step's record carries the manifold's frames; the rest starts afresh.
-            out.extras.emplace_back(pe).restart();
+            // Last step's record carries the manifold's frames and the impulses.
+            out.extras.emplace_back(pe).reuse();
             continue;
           }
         }
@@ -1002,6 +1006,7 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
     e.touching = false;
     for (int k = 0; k < c.manifold.pointCount; ++k)
       e.touching = e.touching || c.manifold.points[k].separation <= tuning.linearSlop;
+    if (std::exchange(e.carried, false)) continue;
     const auto key = contactKey(c);
     while (previous != D.previous.end() && contactKey(*previous) < key) ++previous;
     const auto it = previous;
@@ -1107,11 +1112,17 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
     // Friction axes: along the sliding direction when sliding (as Jolt does), so the disc
     // clamp of the two rows' impulse opposes the sliding velocity even though the rows'
     // effective masses differ; otherwise a basis of the normal alone.
+    // The anchors and the points' relative velocities first: the slip direction needs them all.
+    std::array<Vec3, 4> dvs;
     Vec3 slip = Vec3::Zero();
     for (int k = 0; k < c.pointCount; ++k) {
       const ContactPoint& cp = info.manifold.points[static_cast<std::size_t>(k)];
+      detail::ConstraintPoint& p = c.points[static_cast<std::size_t>(k)];
       const Vec3 mid = Real(0.5) * (cp.pointA + cp.pointB);
-      slip += bb.v + bb.w.cross(mid - bb.com) - ba.v - ba.w.cross(mid - ba.com);
+      p.rA = mid - ba.com;
+      p.rB = mid - bb.com;
+      dvs[std::size_t(k)] = bb.v + bb.w.cross(p.rB) - ba.v - ba.w.cross(p.rA);
+      slip += dvs[std::size_t(k)];
     }
     slip -= slip.dot(c.normal) * c.normal;
     const Real slipNorm = slip.norm() / Real(c.pointCount);
@@ -1122,22 +1133,21 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
       c.tangent = detail::tangentBasis(c.normal);
     }
     const ContactExtra& extra = D.extras[ci];
-    Real tangentialSpeed = 0;
+    Real tangentialSpeed2 = 0;  // the largest, squared
     for (int k = 0; k < c.pointCount; ++k) {
       const ContactPoint& cp = info.manifold.points[static_cast<std::size_t>(k)];
       detail::ConstraintPoint& p = c.points[static_cast<std::size_t>(k)];
-      const Vec3 mid = Real(0.5) * (cp.pointA + cp.pointB);
-      p.rA = mid - ba.com;
-      p.rB = mid - bb.com;
       p.adjustedSeparation = cp.separation - (p.rB - p.rA).dot(c.normal);
       p.normalImpulse = info.normalImpulses[static_cast<std::size_t>(k)];
       for (int t = 0; t < 2; ++t)
         p.tangentImpulse[t] = extra.tangentImpulse[static_cast<std::size_t>(k)].dot(c.tangent[t]);
-      const Vec3 dv = bb.v + bb.w.cross(p.rB) - ba.v - ba.w.cross(p.rA);
+      const Vec3& dv = dvs[std::size_t(k)];
       p.relativeVelocity = dv.dot(c.normal);
-      tangentialSpeed = std::max(tangentialSpeed, (dv - p.relativeVelocity * c.normal).norm());
+      tangentialSpeed2 =
+          std::max(tangentialSpeed2, (dv - p.relativeVelocity * c.normal).squaredNorm());
     }
-    c.friction = tangentialSpeed < kStickSpeed ? staticFriction : slidingFriction;
+    c.friction =
+        tangentialSpeed2 < kStickSpeed * kStickSpeed ? staticFriction : slidingFriction;
     for (int t = 0; t < 2; ++t) c.rollingImpulse[t] = extra.angularImpulse.dot(c.tangent[t]);
     c.spinningImpulse = extra.angularImpulse.dot(c.normal);
   }
