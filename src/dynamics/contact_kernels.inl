@@ -469,6 +469,50 @@ void restitutionSlice(WideConstraint& c, const Slice& at, SolverBody* bodies, Re
   scatter(b, c.bodyB, c.writeB, at, bodies);
 }
 
+// Each side's motion since the step's start, lane by lane: dR's columns and dp. Static bodies
+// and empty lanes have not moved (identity, zero).
+struct Motion {
+  V3 column[3], dp;
+};
+[[gnu::always_inline]] inline Motion gatherMotion(const std::array<int, kLanes>& index,
+                                                  const Slice& at, const SolverBody* bodies) {
+  alignas(64) Real c[12][kSliceLanes];
+  for (int l = 0; l < kSliceLanes; ++l) {
+    const int i = index[std::size_t(at.first + l)];
+    if (i >= 0) {
+      const SolverBody& b = bodies[i];
+      for (int k = 0; k < 9; ++k) c[k][l] = b.dR.data()[k];  // column-major
+      for (int k = 0; k < 3; ++k) c[9 + k][l] = b.dp[k];
+    } else {
+      for (int k = 0; k < 12; ++k) c[k][l] = k < 9 && k % 4 == 0 ? Real(1) : Real(0);
+    }
+  }
+  auto p = [&](int r) {
+    Pack out;
+    std::memcpy(out.n, c[r], sizeof out.n);
+    return out;
+  };
+  return {{{p(0), p(1), p(2)}, {p(3), p(4), p(5)}, {p(6), p(7), p(8)}}, {p(9), p(10), p(11)}};
+}
+
+// x0 y0 + (x1 y1 + x2 y2): the order of Eigen's 3-vector dot product (a sum of three
+// unrolled as its first term plus the sum of the other two).
+[[gnu::always_inline]] inline Pack eigenDot(const V3& a, const V3& b) {
+  return a.x * b.x + (a.y * b.y + a.z * b.z);
+}
+
+// The moved normals and their offset, as ContactBundles::updateMotion documents.
+void updateMotionSlice(WideConstraint& c, const Slice& at, const SolverBody* bodies) {
+  const Motion a = gatherMotion(c.bodyA, at, bodies), b = gatherMotion(c.bodyB, at, bodies);
+  const V3 n = at(c.normal);
+  // dR^T n: column k of dR dotted with n.
+  at.store(V3{eigenDot(a.column[0], n), eigenDot(a.column[1], n), eigenDot(a.column[2], n)},
+           c.movedA);
+  at.store(V3{eigenDot(b.column[0], n), eigenDot(b.column[1], n), eigenDot(b.column[2], n)},
+           c.movedB);
+  at.store(eigenDot(n, b.dp - a.dp), c.offset);
+}
+
 // Runs `kernel(slice)` on each slice of `c` that has a lane in use.
 template <class Kernel>
 [[gnu::always_inline]] inline void forSlices(const WideConstraint& c, Kernel kernel) {
@@ -497,4 +541,8 @@ void restitutionRange(WideConstraint* c, std::size_t count, SolverBody* bodies, 
   for (std::size_t k = 0; k < count; ++k)
     if (c[k].bouncy)
       forSlices(c[k], [&](const Slice& at) { restitutionSlice(c[k], at, bodies, threshold); });
+}
+void updateMotionRange(WideConstraint* c, std::size_t count, const SolverBody* bodies) {
+  for (std::size_t k = 0; k < count; ++k)
+    forSlices(c[k], [&](const Slice& at) { updateMotionSlice(c[k], at, bodies); });
 }

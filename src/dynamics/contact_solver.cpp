@@ -134,15 +134,17 @@ struct Kernels {
   void (*solve)(WideConstraint*, std::size_t, SolverBody*, const BiasMode&);
   void (*updateApproach)(WideConstraint*, std::size_t, const SolverBody*);
   void (*restitution)(WideConstraint*, std::size_t, SolverBody*, Real);
+  void (*updateMotion)(WideConstraint*, std::size_t, const SolverBody*);
 };
 
 constexpr Kernels kSse2{sse2::prepareBundle, sse2::warmStartRange, sse2::solveRange, sse2::updateApproachRange,
-                        sse2::restitutionRange};
+                        sse2::restitutionRange, sse2::updateMotionRange};
 #ifdef INERTIA_HAVE_AVX2_KERNELS
 constexpr Kernels kAvx2{avx2::prepareBundle, avx2::warmStartRange, avx2::solveRange, avx2::updateApproachRange,
-                        avx2::restitutionRange};
+                        avx2::restitutionRange, avx2::updateMotionRange};
 constexpr Kernels kAvx512{avx512::prepareBundle, avx512::warmStartRange, avx512::solveRange,
-                          avx512::updateApproachRange, avx512::restitutionRange};
+                          avx512::updateApproachRange, avx512::restitutionRange,
+                          avx512::updateMotionRange};
 #endif
 
 SimdChoice& contactChoice() {
@@ -200,9 +202,6 @@ ConstraintColoring sequentialColoring(std::size_t count) {
 
 void put3(WideReal (&w)[3], int lane, const Vec3& v) {
   for (int k = 0; k < 3; ++k) w[k].lane[lane] = v[k];
-}
-Vec3 get3(const WideReal (&w)[3], int lane) {
-  return {w[0].lane[lane], w[1].lane[lane], w[2].lane[lane]};
 }
 
 // Lane `l` of `w` and of `inertia` from constraint `c`; the rest of `w` is zero.
@@ -318,18 +317,7 @@ void ContactBundles::build(const std::vector<ContactConstraint>& cs,
 }
 
 void ContactBundles::updateMotion(const std::vector<SolverBody>& bodies) {
-  const SolverBody none{};
-  for (WideConstraint& w : bundles_) {
-    for (int l = 0; l < w.lanes; ++l) {
-      const int ia = w.bodyA[std::size_t(l)], ib = w.bodyB[std::size_t(l)];
-      const SolverBody& a = ia >= 0 ? bodies[std::size_t(ia)] : none;
-      const SolverBody& b = ib >= 0 ? bodies[std::size_t(ib)] : none;
-      const Vec3 n = get3(w.normal, l);
-      put3(w.movedA, l, a.dR.transpose() * n);
-      put3(w.movedB, l, b.dR.transpose() * n);
-      w.offset.lane[l] = n.dot(b.dp - a.dp);
-    }
-  }
+  kernels().updateMotion(bundles_.data(), bundles_.size(), bodies.data());
 }
 
 void ContactBundles::warmStart(std::vector<SolverBody>& bodies, tbb::task_arena* arena) const {
