@@ -249,8 +249,10 @@ int main(int argc, char** argv) {
   std::vector<std::string> only(argv + 1, argv + argc);
   std::printf(
       "rigid bodies: %d steps of 1/60 s, 1 thread, sleeping off, Real = %s, Bullet btScalar = "
-      "%s; friction 0.6, restitution 0, density 1000 kg/m^3\n\n",
-      kSteps, sizeof(Real) == 4 ? "float" : "double", sizeof(btScalar) == 4 ? "float" : "double");
+      "%s; friction 0.6, restitution 0, density 1000 kg/m^3; Inertia's contact kernels: %s "
+      "(INERTIA_SIMD=avx2 or sse2 caps them)\n\n",
+      kSteps, sizeof(Real) == 4 ? "float" : "double", sizeof(btScalar) == 4 ? "float" : "double",
+      contactSolverInstructionSet());
   std::printf(
       "| scene | engine | bodies | ms/step | Inertia broad / narrow / solver / integ. ms | "
       "max disp. m | below -1 m | outside box | non-finite | final KE J |\n");

@@ -6,6 +6,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string_view>
 
 namespace inertia::detail {
 
@@ -28,13 +31,29 @@ inline const char* simdLevelName(SimdLevel level) {
 
 /// The widest set this processor (and its operating system, which must save the wider
 /// registers) runs: AVX-512 (the F subset), AVX2 or SSE2 (the x86-64 baseline) on x86,
-/// scalar elsewhere. Detected once.
+/// scalar elsewhere; capped by the environment variable INERTIA_SIMD ("avx2" or "sse2"), to
+/// compare the sets or to keep a processor that lowers its clock for 512-bit work off AVX-512.
+/// Another value of INERTIA_SIMD is ignored with a warning on stderr. Detected once.
 inline SimdLevel cpuSimdLevel() {
 #if defined(__x86_64__) || defined(__i386__)
   static const SimdLevel level = [] {
     __builtin_cpu_init();
-    if (__builtin_cpu_supports("avx512f")) return SimdLevel::Avx512;
-    return __builtin_cpu_supports("avx2") ? SimdLevel::Avx2 : SimdLevel::Sse2;
+    SimdLevel found = SimdLevel::Sse2;
+    if (__builtin_cpu_supports("avx512f"))
+      found = SimdLevel::Avx512;
+    else if (__builtin_cpu_supports("avx2"))
+      found = SimdLevel::Avx2;
+    if (const char* cap = std::getenv("INERTIA_SIMD")) {
+      const std::string_view name(cap);
+      if (name == "sse2")
+        found = SimdLevel::Sse2;
+      else if (name == "avx2")
+        found = std::min(found, SimdLevel::Avx2);
+      else if (name != "avx512")
+        std::fprintf(stderr, "inertia: INERTIA_SIMD=%s ignored: expected avx512, avx2 or sse2\n",
+                     cap);
+    }
+    return found;
   }();
   return level;
 #else

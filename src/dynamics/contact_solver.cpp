@@ -401,3 +401,11 @@ void applyRestitution(std::vector<ContactConstraint>& cs, std::vector<SolverBody
 }
 
 }  // namespace inertia::detail
+
+namespace inertia {
+
+const char* contactSolverInstructionSet() {
+  return detail::simdLevelName(detail::contactSimd());
+}
+
+}  // namespace inertia

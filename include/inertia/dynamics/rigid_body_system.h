@@ -223,4 +223,8 @@ class RigidBodySystem {
   std::unique_ptr<Data> d_;
 };
 
+/// The instruction set the contact solver's kernels use on this processor: "AVX-512", "AVX2"
+/// or "SSE2" (every set gives the same bits; the environment variable INERTIA_SIMD caps it).
+const char* contactSolverInstructionSet();
+
 }  // namespace inertia
