@@ -250,7 +250,7 @@ int main(int argc, char** argv) {
   std::printf(
       "rigid bodies: %d steps of 1/60 s, 1 thread, sleeping off, Real = %s, Bullet btScalar = "
       "%s; friction 0.6, restitution 0, density 1000 kg/m^3; Inertia's contact kernels: %s "
-      "(INERTIA_SIMD=avx2 or sse2 caps them)\n\n",
+      "(INERTIA_SIMD=avx2 or sse2 caps every kernel's set)\n\n",
       kSteps, sizeof(Real) == 4 ? "float" : "double", sizeof(btScalar) == 4 ? "float" : "double",
       contactSolverInstructionSet());
   std::printf(

@@ -3,17 +3,19 @@
 // in its own namespace and with INERTIA_PACK_BYTES set to the native vector width (16: SSE2,
 // 32: AVX2, 64: AVX-512), so no inline function is shared between the builds.
 //
-// Every operation is lane-wise IEEE arithmetic (the project compiles with -ffp-contract=off
-// and no build enables FMA), so a lane computes the same bits in every build and in a bundle
-// of one constraint as in a full one.
+// Every operation is lane-wise IEEE arithmetic, so a lane computes the same bits in every
+// build and in a bundle of one constraint as in a full one. The AVX-512 build's target has
+// fused multiply-adds; the project's -ffp-contract=off (CMakeLists.txt) is what keeps the
+// compiler from fusing a product and a sum there, which would round once instead of twice.
 
 // GCC's generic vectors: one native register, and the integer vector its comparisons give.
 using Native = Real __attribute__((vector_size(INERTIA_PACK_BYTES)));
 using NativeMask = decltype(Native{} < Native{});
 inline constexpr int kPerNative = INERTIA_PACK_BYTES / int(sizeof(Real));
-// A kernel runs a bundle slice by slice. A slice is 32 bytes of lanes in the SSE2 and AVX2
-// builds: their sixteen registers hold one slice's two bodies (twelve values), and a wider
-// slice would spill. The AVX-512 build has thirty-two registers and runs the whole bundle.
+// A kernel runs a bundle slice by slice. A slice is 32 bytes of lanes (8 floats, 4 doubles)
+// in the SSE2 and AVX2 builds: a bundle's two bodies are twelve values, twelve of AVX2's
+// sixteen registers (SSE2 already needs two registers a value), and a wider slice spills.
+// The AVX-512 build has thirty-two registers and runs the whole bundle in one slice.
 inline constexpr int kSliceLanes = std::max(kPerNative, int(32 / sizeof(Real)));
 inline constexpr int kNatives = kSliceLanes / kPerNative;
 inline constexpr int kSlices = kLanes / kSliceLanes;
@@ -495,10 +497,15 @@ struct Motion {
   return {{{p(0), p(1), p(2)}, {p(3), p(4), p(5)}, {p(6), p(7), p(8)}}, {p(9), p(10), p(11)}};
 }
 
-// x0 y0 + (x1 y1 + x2 y2): the order of Eigen's 3-vector dot product (a sum of three
-// unrolled as its first term plus the sum of the other two).
+// A 3-vector dot product summed in the order Eigen 3.4 sums it, so that the kernel gives the
+// bits of the scalar code it replaced (a.dR.transpose() * n, n.dot(dp)): in float Eigen does not
+// vectorise a sum of three and unrolls it as x0 y0 + (x1 y1 + x2 y2); in double it adds a
+// packet of the first two, then the third. Any order would keep the sets equal to each other.
 [[gnu::always_inline]] inline Pack eigenDot(const V3& a, const V3& b) {
-  return a.x * b.x + (a.y * b.y + a.z * b.z);
+  if constexpr (sizeof(Real) == 8)
+    return (a.x * b.x + a.y * b.y) + a.z * b.z;
+  else
+    return a.x * b.x + (a.y * b.y + a.z * b.z);
 }
 
 // The moved normals and their offset, as ContactBundles::updateMotion documents.

@@ -164,8 +164,8 @@ struct WideConstraint {
   // Images of the tangents and the normal under the inverse inertias, for the rolling and
   // spinning rows (only when `angular`).
   WideReal iaT[2][3], iaN[3], ibT[2][3], ibN[3];
-  // Not initialised: a bundle is 8 KB, most of it points, and the pile scene's bundles use
-  // one point in four. clear() zeroes the part a bundle uses.
+  // Not initialised: a bundle is 16 KB (8 in double), most of it points, and the pile
+  // scene's bundles use one point in four. clear() zeroes the part a bundle uses.
   std::array<WidePoint, 4> points;
 
   /// Zeroes every field and the first `pointCount` points; the others stay unread.
@@ -243,7 +243,7 @@ class ContactBundles {
 /// The set the bundle kernels can use: AVX-512 or AVX2 when the processor has it, else SSE2
 /// (GCC's generic 16-byte vectors off x86).
 SimdLevel bestContactSimd();
-/// The set the kernels use: bestContactSimd() unless a test forced SSE2.
+/// The set the kernels use: bestContactSimd() unless a test forced a narrower one.
 SimdLevel contactSimd();
 /// Forces the set (clamped to bestContactSimd(), and at least SSE2); returns the previous one.
 /// For tests; not while a step runs.
