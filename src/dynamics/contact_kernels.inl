@@ -196,26 +196,38 @@ struct Side {
   V3 v, w;
 };
 
-// Static bodies and empty lanes read zero velocities.
-[[gnu::always_inline]] inline Side gather(const std::array<int, kLanes>& index, const Slice& at,
-                                          const SolverBody* bodies) {
-  alignas(64) Real c[6][kSliceLanes];
+// `Rows` values of the slice's bodies, lane by lane: values(body, row) for a lane's body, or
+// none[row] for a static body or an empty lane. The row loops are unrolled so that each row
+// reads a fixed offset: GCC then turns the lane loop into gathers (without, the passes were 18%
+// slower).
+template <int Rows, class Values>
+[[gnu::always_inline]] inline std::array<Pack, Rows> gatherLanes(
+    const std::array<int, kLanes>& index, const Slice& at, const SolverBody* bodies,
+    Values values, const Real (&none)[Rows]) {
+  alignas(64) Real c[Rows][kSliceLanes];
   for (int l = 0; l < kSliceLanes; ++l) {
     const int i = index[std::size_t(at.first + l)];
     if (i >= 0) {
-      const SolverBody& b = bodies[i];
-      c[0][l] = b.v.x(), c[1][l] = b.v.y(), c[2][l] = b.v.z();
-      c[3][l] = b.w.x(), c[4][l] = b.w.y(), c[5][l] = b.w.z();
+#pragma GCC unroll 12
+      for (int r = 0; r < Rows; ++r) c[r][l] = values(bodies[i], r);
     } else {
-      for (auto& row : c) row[l] = 0;
+#pragma GCC unroll 12
+      for (int r = 0; r < Rows; ++r) c[r][l] = none[r];
     }
   }
-  auto p = [&](int r) {
-    Pack out;
-    std::memcpy(out.n, c[r], sizeof out.n);
-    return out;
-  };
-  return {{p(0), p(1), p(2)}, {p(3), p(4), p(5)}};
+  std::array<Pack, Rows> out;
+  for (int r = 0; r < Rows; ++r) std::memcpy(out[std::size_t(r)].n, c[r], sizeof out[0].n);
+  return out;
+}
+
+// Static bodies and empty lanes read zero velocities.
+[[gnu::always_inline]] inline Side gather(const std::array<int, kLanes>& index, const Slice& at,
+                                          const SolverBody* bodies) {
+  constexpr Real kNone[6] = {};
+  const auto p = gatherLanes<6>(
+      index, at, bodies,
+      [](const SolverBody& b, int r) { return r < 3 ? b.v[r] : b.w[r - 3]; }, kNone);
+  return {{p[0], p[1], p[2]}, {p[3], p[4], p[5]}};
 }
 
 // Only moving bodies are written: lanes of a bundle never share one, while static and
@@ -478,23 +490,12 @@ struct Motion {
 };
 [[gnu::always_inline]] inline Motion gatherMotion(const std::array<int, kLanes>& index,
                                                   const Slice& at, const SolverBody* bodies) {
-  alignas(64) Real c[12][kSliceLanes];
-  for (int l = 0; l < kSliceLanes; ++l) {
-    const int i = index[std::size_t(at.first + l)];
-    if (i >= 0) {
-      const SolverBody& b = bodies[i];
-      for (int k = 0; k < 9; ++k) c[k][l] = b.dR.data()[k];  // column-major
-      for (int k = 0; k < 3; ++k) c[9 + k][l] = b.dp[k];
-    } else {
-      for (int k = 0; k < 12; ++k) c[k][l] = k < 9 && k % 4 == 0 ? Real(1) : Real(0);
-    }
-  }
-  auto p = [&](int r) {
-    Pack out;
-    std::memcpy(out.n, c[r], sizeof out.n);
-    return out;
-  };
-  return {{{p(0), p(1), p(2)}, {p(3), p(4), p(5)}, {p(6), p(7), p(8)}}, {p(9), p(10), p(11)}};
+  constexpr Real kNone[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};  // identity, zero
+  const auto p = gatherLanes<12>(
+      index, at, bodies,
+      [](const SolverBody& b, int r) { return r < 9 ? b.dR.data()[r] : b.dp[r - 9]; },  // dR column-major
+      kNone);
+  return {{{p[0], p[1], p[2]}, {p[3], p[4], p[5]}, {p[6], p[7], p[8]}}, {p[9], p[10], p[11]}};
 }
 
 // A 3-vector dot product summed in the order Eigen 3.4 sums it, so that the kernel gives the
