@@ -220,6 +220,133 @@ template <int Rows, class Values>
   return out;
 }
 
+#if INERTIA_PACK_BYTES >= 32 && !defined(INERTIA_DOUBLE)
+// Float in the AVX2 and AVX-512 builds: a body's v and w are its first six floats, so the
+// velocities move as one 8-float row per body (v, w, and two floats of dp that are read and
+// never written) through an 8 x 8 transpose in registers. A lane loop moving them one value at
+// a time was a quarter of the solver pass.
+static_assert(sizeof(Real) == 4 && offsetof(SolverBody, w) == 3 * sizeof(Real) &&
+              offsetof(SolverBody, dp) == 6 * sizeof(Real) &&
+              offsetof(SolverBody, dR) == 9 * sizeof(Real));
+
+#if INERTIA_PACK_BYTES == 64
+// Two rows: lane l in the low half, lane l + 8 in the high half. The masked forms of the
+// intrinsics: GCC 12 warns of the undefined source the unmasked ones read.
+using Row8 = __m512;
+constexpr __mmask16 kAll = 0xFFFF;
+[[gnu::always_inline]] inline Row8 rowUnpackLo(Row8 a, Row8 b) { return _mm512_mask_unpacklo_ps(a, kAll, a, b); }
+[[gnu::always_inline]] inline Row8 rowUnpackHi(Row8 a, Row8 b) { return _mm512_mask_unpackhi_ps(a, kAll, a, b); }
+template <int Imm>
+[[gnu::always_inline]] inline Row8 rowShuffle(Row8 a, Row8 b) { return _mm512_mask_shuffle_ps(a, kAll, a, b, Imm); }
+// The low (High = false) or high 128-bit blocks of each half of a and b, interleaved by block.
+template <bool High>
+[[gnu::always_inline]] inline Row8 rowBlocks(Row8 a, Row8 b) {
+  constexpr int o = High ? 4 : 0;
+  const __m512i index = _mm512_setr_epi32(o, o + 1, o + 2, o + 3, o + 16, o + 17, o + 18, o + 19,
+                                          o + 8, o + 9, o + 10, o + 11, o + 24, o + 25, o + 26,
+                                          o + 27);
+  return _mm512_permutex2var_ps(a, index, b);
+}
+#else
+using Row8 = __m256;
+[[gnu::always_inline]] inline Row8 rowUnpackLo(Row8 a, Row8 b) { return _mm256_unpacklo_ps(a, b); }
+[[gnu::always_inline]] inline Row8 rowUnpackHi(Row8 a, Row8 b) { return _mm256_unpackhi_ps(a, b); }
+template <int Imm>
+[[gnu::always_inline]] inline Row8 rowShuffle(Row8 a, Row8 b) { return _mm256_shuffle_ps(a, b, Imm); }
+template <bool High>
+[[gnu::always_inline]] inline Row8 rowBlocks(Row8 a, Row8 b) {
+  return _mm256_permute2f128_ps(a, b, High ? 0x31 : 0x20);
+}
+#endif
+
+// Transposes the 8 x 8 matrix of rows r (in each 256-bit half independently): r[k][i]
+// becomes r[i][k]. Its own inverse.
+[[gnu::always_inline]] inline void transpose8(Row8 (&r)[8]) {
+  Row8 t[8], s[8];
+#pragma GCC unroll 8
+  for (int j = 0; j < 4; ++j) {
+    t[2 * j] = rowUnpackLo(r[2 * j], r[2 * j + 1]);
+    t[2 * j + 1] = rowUnpackHi(r[2 * j], r[2 * j + 1]);
+  }
+#pragma GCC unroll 8
+  for (int j = 0; j < 2; ++j) {
+    s[4 * j] = rowShuffle<0x44>(t[4 * j], t[4 * j + 2]);
+    s[4 * j + 1] = rowShuffle<0xEE>(t[4 * j], t[4 * j + 2]);
+    s[4 * j + 2] = rowShuffle<0x44>(t[4 * j + 1], t[4 * j + 3]);
+    s[4 * j + 3] = rowShuffle<0xEE>(t[4 * j + 1], t[4 * j + 3]);
+  }
+#pragma GCC unroll 8
+  for (int k = 0; k < 4; ++k) {
+    r[k] = rowBlocks<false>(s[k], s[k + 4]);
+    r[k + 4] = rowBlocks<true>(s[k], s[k + 4]);
+  }
+}
+
+// Eight consecutive floats of each lane's body, from first(body), or `none` for a static body
+// or an empty lane, transposed: r[k] holds float k of every lane.
+template <class First>
+[[gnu::always_inline]] inline void gatherRows(const std::array<int, kLanes>& index,
+                                              const Slice& at, const SolverBody* bodies,
+                                              First first, const Real* none, Row8 (&r)[8]) {
+  auto row = [&](int lane) {
+    const int i = index[std::size_t(at.first + lane)];
+    return i >= 0 ? first(bodies[i]) : none;
+  };
+#pragma GCC unroll 8
+  for (int i = 0; i < 8; ++i) {
+#if INERTIA_PACK_BYTES == 64
+    const __m512d lo = _mm512_castps_pd(_mm512_castps256_ps512(_mm256_loadu_ps(row(i))));
+    const __m256d hi = _mm256_castps_pd(_mm256_loadu_ps(row(i + 8)));
+    r[i] = _mm512_castpd_ps(_mm512_mask_insertf64x4(lo, __mmask8(0xFF), lo, hi, 1));
+#else
+    r[i] = _mm256_loadu_ps(row(i));
+#endif
+  }
+  transpose8(r);
+}
+
+[[gnu::always_inline]] inline Pack packOf(Row8 r) {
+  Pack p;
+  p.n[0] = Native(r);
+  return p;
+}
+
+// v and w, and two floats of dp that are not used.
+[[gnu::always_inline]] inline Side gather(const std::array<int, kLanes>& index, const Slice& at,
+                                          const SolverBody* bodies) {
+  alignas(32) static constexpr Real kStill[8] = {};
+  Row8 r[8];
+  gatherRows(index, at, bodies, [](const SolverBody& b) { return b.v.data(); }, kStill, r);
+  return {{packOf(r[0]), packOf(r[1]), packOf(r[2])}, {packOf(r[3]), packOf(r[4]), packOf(r[5])}};
+}
+
+// Only moving bodies are written, six floats each: lanes of a bundle never share one, while
+// static and kinematic bodies (unchanged by impulses) may appear in several lanes and threads.
+[[gnu::always_inline]] inline void scatter(const Side& s, const std::array<int, kLanes>& index,
+                                           std::uint32_t write, const Slice& at,
+                                           SolverBody* bodies) {
+  Row8 r[8] = {Row8(s.v.x.n[0]), Row8(s.v.y.n[0]), Row8(s.v.z.n[0]),
+               Row8(s.w.x.n[0]), Row8(s.w.y.n[0]), Row8(s.w.z.n[0]), Row8{}, Row8{}};
+  transpose8(r);
+  auto put = [&](int lane, Row8 row) {
+    if (!((write >> lane) & 1u)) return;
+    Real* p = bodies[index[std::size_t(lane)]].v.data();
+#if INERTIA_PACK_BYTES == 64
+    _mm512_mask_storeu_ps(p, __mmask16(0x3F), row);
+#else
+    _mm_storeu_ps(p, _mm256_castps256_ps128(row));
+    _mm_storel_pi(reinterpret_cast<__m64*>(p + 4), _mm256_extractf128_ps(row, 1));
+#endif
+  };
+#pragma GCC unroll 8
+  for (int i = 0; i < 8; ++i) {
+    put(at.first + i, r[i]);
+#if INERTIA_PACK_BYTES == 64
+    put(at.first + i + 8, _mm512_mask_shuffle_f32x4(r[i], kAll, r[i], r[i], 0xEE));
+#endif
+  }
+}
+#else
 // Static bodies and empty lanes read zero velocities.
 [[gnu::always_inline]] inline Side gather(const std::array<int, kLanes>& index, const Slice& at,
                                           const SolverBody* bodies) {
@@ -245,6 +372,8 @@ template <int Rows, class Values>
     b.w = Vec3(c[3][l], c[4][l], c[5][l]);
   }
 }
+
+#endif
 
 // An impulse `lambda` along one row: direction d, Jacobian images wA = invIA (rA x d) and
 // wB = invIB (rB x d).
@@ -274,12 +403,6 @@ template <int Rows, class Values>
   add(b.w, roll0 * at(c.ibT[0]));
   add(b.w, roll1 * at(c.ibT[1]));
   add(b.w, spin * at(c.ibN));
-}
-
-[[gnu::always_inline]] inline Pack separation(const WideConstraint& c, const WidePoint& p,
-                                              const Slice& at) {
-  return at(c.offset) + dot(at(c.movedB), at(p.rB)) - dot(at(c.movedA), at(p.rA)) +
-         at(p.adjustedSeparation);
 }
 
 // 1 / k for the effective mass k of a row, 0 for a row that no impulse can move (k = 0).
@@ -373,7 +496,7 @@ void solveSlice(WideConstraint& c, const Slice& at, SolverBody* bodies, const Bi
   // Non-penetration rows.
   for (int i = 0; i < c.pointCount; ++i) {
     WidePoint& p = c.points[std::size_t(i)];
-    const Pack s = separation(c, p, at);
+    const Pack s = at(p.separation);
     // s > 0: speculative, the gap may close within this substep, no more.
     Pack bias = zero, massScale = one, impulseScale = zero;
     if (mode.useBias) {
@@ -452,7 +575,7 @@ void updateApproachSlice(WideConstraint& c, const Slice& at, const SolverBody* b
   for (int i = 0; i < c.pointCount; ++i) {
     WidePoint& p = c.points[std::size_t(i)];
     const Mask take =
-        bouncy & (at(p.maxNormalImpulse) == zero) & (separation(c, p, at) > zero);
+        bouncy & (at(p.maxNormalImpulse) == zero) & (at(p.separation) > zero);
     at.store(select(take, rowVelocity(a, b, n, at(p.rnA), at(p.rnB)), at(p.relativeVelocity)),
              p.relativeVelocity);
   }
@@ -488,6 +611,22 @@ void restitutionSlice(WideConstraint& c, const Slice& at, SolverBody* bodies, Re
 struct Motion {
   V3 column[3], dp;
 };
+#if INERTIA_PACK_BYTES >= 32 && !defined(INERTIA_DOUBLE)
+// Two rows of eight floats per body: dp and dR's first five values (column-major); dR's last
+// eight.
+[[gnu::always_inline]] inline Motion gatherMotion(const std::array<int, kLanes>& index,
+                                                  const Slice& at, const SolverBody* bodies) {
+  alignas(32) static constexpr Real kStill[8] = {0, 0, 0, 1, 0, 0, 0, 1};  // dp zero, dR identity
+  alignas(32) static constexpr Real kStillR[8] = {0, 0, 0, 1, 0, 0, 0, 1};
+  Row8 p[8], q[8];
+  gatherRows(index, at, bodies, [](const SolverBody& b) { return b.dp.data(); }, kStill, p);
+  gatherRows(index, at, bodies, [](const SolverBody& b) { return b.dR.data() + 1; }, kStillR, q);
+  return {{{packOf(p[3]), packOf(q[0]), packOf(q[1])},
+           {packOf(q[2]), packOf(q[3]), packOf(q[4])},
+           {packOf(q[5]), packOf(q[6]), packOf(q[7])}},
+          {packOf(p[0]), packOf(p[1]), packOf(p[2])}};
+}
+#else
 [[gnu::always_inline]] inline Motion gatherMotion(const std::array<int, kLanes>& index,
                                                   const Slice& at, const SolverBody* bodies) {
   constexpr Real kNone[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};  // identity, zero
@@ -497,6 +636,8 @@ struct Motion {
       kNone);
   return {{{p[0], p[1], p[2]}, {p[3], p[4], p[5]}, {p[6], p[7], p[8]}}, {p[9], p[10], p[11]}};
 }
+
+#endif
 
 // A 3-vector dot product summed in the order Eigen 3.4 sums it, so that the kernel gives the
 // bits of the scalar code it replaced (a.dR.transpose() * n, n.dot(dp)): in float Eigen does not
@@ -509,16 +650,20 @@ struct Motion {
     return a.x * b.x + (a.y * b.y + a.z * b.z);
 }
 
-// The moved normals and their offset, as ContactBundles::updateMotion documents.
+// The points' separations, as ContactBundles::updateMotion documents. Once per position
+// update: the iterations between two updates read them.
 void updateMotionSlice(WideConstraint& c, const Slice& at, const SolverBody* bodies) {
   const Motion a = gatherMotion(c.bodyA, at, bodies), b = gatherMotion(c.bodyB, at, bodies);
   const V3 n = at(c.normal);
   // dR^T n: column k of dR dotted with n.
-  at.store(V3{eigenDot(a.column[0], n), eigenDot(a.column[1], n), eigenDot(a.column[2], n)},
-           c.movedA);
-  at.store(V3{eigenDot(b.column[0], n), eigenDot(b.column[1], n), eigenDot(b.column[2], n)},
-           c.movedB);
-  at.store(eigenDot(n, b.dp - a.dp), c.offset);
+  const V3 movedA{eigenDot(a.column[0], n), eigenDot(a.column[1], n), eigenDot(a.column[2], n)};
+  const V3 movedB{eigenDot(b.column[0], n), eigenDot(b.column[1], n), eigenDot(b.column[2], n)};
+  const Pack offset = eigenDot(n, b.dp - a.dp);
+  for (int i = 0; i < c.pointCount; ++i) {
+    WidePoint& p = c.points[std::size_t(i)];
+    at.store(offset + dot(movedB, at(p.rB)) - dot(movedA, at(p.rA)) + at(p.adjustedSeparation),
+             p.separation);
+  }
 }
 
 // Runs `kernel(slice)` on each slice of `c` that has a lane in use.

@@ -29,13 +29,14 @@
 
 namespace inertia::detail {
 
-/// A body as the solver sees it: velocities and the motion since the step's start.
+/// A body as the solver sees it: velocities and the motion since the step's start. The float
+/// kernels read v, w, dp and dR as runs of consecutive floats (contact_kernels.inl).
 struct SolverBody {
   Vec3 v = Vec3::Zero();   ///< Linear velocity of the centre of mass (m/s).
   Vec3 w = Vec3::Zero();   ///< Angular velocity (rad/s).
   Vec3 dp = Vec3::Zero();  ///< Displacement of the centre of mass since the step's start (m).
-  Quat dq = Quat::Identity();  ///< Rotation since the step's start.
   Mat3 dR = Mat3::Identity();  ///< dq as a matrix, refreshed whenever dq changes (cheaper to apply).
+  Quat dq = Quat::Identity();  ///< Rotation since the step's start.
   Real invMass = 0;            ///< (1/kg); 0 for static and kinematic bodies.
   Mat3 invInertia = Mat3::Zero();  ///< World inverse inertia at the step's start (1/(kg m^2)).
 };
@@ -133,6 +134,9 @@ struct alignas(64) WideReal {
 struct WidePoint {
   WideReal rA[3], rB[3];
   WideReal adjustedSeparation, normalMass, tangentMass[2];
+  /// The current separation (m): adjustedSeparation plus the bodies' motion since the step's
+  /// start, refreshed with the moved normal (ContactBundles::updateMotion).
+  WideReal separation;
   WideReal normalImpulse, tangentImpulse[2], maxNormalImpulse, relativeVelocity;
   WideReal rnA[3], rnB[3], wnA[3], wnB[3];
   WideReal rtA[2][3], rtB[2][3], wtA[2][3], wtB[2][3];
@@ -157,10 +161,6 @@ struct WideConstraint {
   WideReal rollingMass[2], rollingImpulse[2], spinningMass, spinningImpulse;
   WideReal biasRate, massScale, impulseScale;
   WideReal lanePoints;              ///< Each lane's own point count.
-  // The normal in the frames of A's and B's motion since the step's start, and
-  // n . (dpB - dpA): a point's current separation is offset + movedB . rB - movedA . rA +
-  // adjustedSeparation. Refreshed after each position update (ContactBundles::updateMotion).
-  WideReal movedA[3], movedB[3], offset;
   // Images of the tangents and the normal under the inverse inertias, for the rolling and
   // spinning rows (only when `angular`).
   WideReal iaT[2][3], iaN[3], ibT[2][3], ibN[3];
@@ -214,7 +214,10 @@ class ContactBundles {
   /// since the step's start as updateMotion() does.
   void build(const std::vector<ContactConstraint>& cs, const std::vector<SolverBody>& bodies,
              const ConstraintColoring& coloring);
-  /// Refreshes the moved normals from the bodies' dp and dR: after each position update.
+  /// Refreshes the points' separations from the bodies' dp and dR: after each position update.
+  /// With the normal in the frames of A's and B's motion since the step's start, dRA^T n and
+  /// dRB^T n, and n . (dpB - dpA), a point's separation is
+  /// n . (dpB - dpA) + (dRB^T n) . rB - (dRA^T n) . rA + adjustedSeparation.
   void updateMotion(const std::vector<SolverBody>& bodies);
 
   /// Applies the accumulated impulses of every constraint to its bodies.
