@@ -908,11 +908,15 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
             info.manifold = it->manifold;
             info.normalImpulses = it->normalImpulses;
             ContactManifold& m = info.manifold;
-            m.normal = poseA.rotate(pe.localNormal);
+            // Up to nine vectors to rotate: as matrices, each costs less than a quaternion
+            // rotation.
+            const Mat3 rotationA = poseA.q.toRotationMatrix();
+            const Mat3 rotationB = poseB.q.toRotationMatrix();
+            m.normal = rotationA * pe.localNormal;
             for (int k = 0; k < m.pointCount; ++k) {
               ContactPoint& p = m.points[static_cast<std::size_t>(k)];
-              p.pointA = poseA.apply(pe.localA[static_cast<std::size_t>(k)]);
-              p.pointB = poseB.apply(pe.localB[static_cast<std::size_t>(k)]);
+              p.pointA = rotationA * pe.localA[static_cast<std::size_t>(k)] + poseA.p;
+              p.pointB = rotationB * pe.localB[static_cast<std::size_t>(k)] + poseB.p;
               p.separation = (p.pointB - p.pointA).dot(m.normal);
             }
             // Last step's record carries the manifold's frames and the impulses.

@@ -63,7 +63,6 @@ Stack makeStack(int count, Real theta, Real mu) {
 struct Load {
   Real impulse = 0;
   Vec3 centre = Vec3::Zero();
-  std::vector<Real> points;
 };
 using Loads = std::map<std::pair<std::uint32_t, std::uint32_t>, Load>;
 
@@ -76,7 +75,6 @@ Loads loads(const RigidBodySystem& rbs) {
       const Real lambda = c.normalImpulses[static_cast<std::size_t>(i)];
       l.impulse += lambda;
       l.centre += lambda * Real(0.5) * (p.pointA + p.pointB);
-      l.points.push_back(lambda);
     }
     if (l.impulse <= 0) continue;
     l.centre /= l.impulse;
@@ -149,19 +147,11 @@ void expectAgree(const char* scene, int count, Real theta, Real mu) {
       EXPECT_LT((load.centre - ref.centre).norm(), Real(2e-5)) << scene << " " << solverName(type);
     }
   }
-  // Dantzig against Lemke point by point: both solve the same regularised LCP (A + 1e-8 I on
-  // the scaled rows picks one split of the load between redundant points), and at rest both
-  // friction models are inside their bounds, so the splits agree up to the trajectories'
-  // differences, bounded as above.
-  const Loads& d = results[SolverType::LcpDantzig];
-  const Loads& l = results[SolverType::LcpLemke];
-  for (const auto& [key, load] : d) {
-    ASSERT_TRUE(l.count(key));
-    ASSERT_EQ(load.points.size(), l.at(key).points.size());
-    for (std::size_t i = 0; i < load.points.size(); ++i)
-      EXPECT_NEAR(load.points[i], l.at(key).points[i], impulseTolerance(load.impulse / (kG * h)))
-          << scene << " point " << i;
-  }
+  // Not compared: the split of a manifold's load between its points. Statics fixes only the
+  // total and the centre of pressure; the LCP's regulariser (A + 1e-8 I on the scaled rows) picks
+  // one split, so an input change of float rounding (1e-7) can move the split by O(1), and the
+  // two solvers' runs differ by more. lcp_test checks that Dantzig and Lemke find the same
+  // solution of the same well-posed problem.
 }
 
 }  // namespace
