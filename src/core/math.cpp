@@ -10,16 +10,6 @@ Mat3 skew(const Vec3& a) {
   return m;
 }
 
-Quat integrateRotation(const Quat& q, const Vec3& w, Real h) {
-  // dq/dt = 1/2 (0, w) q
-  Quat wq(0, w.x(), w.y(), w.z());
-  Quat dq = wq * q;
-  Quat r(q.w() + Real(0.5) * h * dq.w(), q.x() + Real(0.5) * h * dq.x(),
-         q.y() + Real(0.5) * h * dq.y(), q.z() + Real(0.5) * h * dq.z());
-  r.normalize();
-  return r;
-}
-
 Quat quatFromRotationVector(const Vec3& v) {
   Real angle = v.norm();
   if (angle < Real(1e-8)) {

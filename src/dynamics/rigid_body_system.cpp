@@ -974,10 +974,10 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
   // Contacts between bodies that did not move (asleep or static) keep last step's state.
   for (std::size_t i = 0; i < D.previous.size(); ++i) {
     const ContactInfo& c = D.previous[i];
+    // The cheap test first: most of last step's contacts have an awake body. (Body slots are
+    // never freed, so the index is in range even for a destroyed body.)
+    if (D.bodies[c.bodyA.index].awake || D.bodies[c.bodyB.index].awake) continue;
     if (!D.isValidShape(c.shapeA) || !D.isValidShape(c.shapeB)) continue;
-    const BodyRecord& ba = D.bodies[c.bodyA.index];
-    const BodyRecord& bb = D.bodies[c.bodyB.index];
-    if (ba.awake || bb.awake) continue;
     D.contacts.push_back(c);
     D.extras.push_back(D.previousExtras[i]);
   }
