@@ -1314,13 +1314,22 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
         ode::step(s.integrator, system, Real(0), h, x, v, ws);
         L += h * b.torque;
         L *= 1 / (1 + h * b.angularDamping);
-        detail::splitFreeRotation(principal, b.principalMoments, L, h);
+        if (b.isotropic)
+          // I = c 1 (a sphere, a cube): w = L / c keeps its axis, and the flow is one exact
+          // rotation, one sine and cosine where the splitting takes five.
+          principal = integrateRotationExact(principal, L / b.inertiaLocal(0, 0), h);
+        else
+          detail::splitFreeRotation(principal, b.principalMoments, L, h);
       }
       b.com = x;
       b.v = v;
       b.pose.q = (principal * b.principalAxes.conjugate()).normalized();
-      const Vec3 Lb = principal.conjugate() * L;
-      b.w = principal * Vec3(Lb.array() / b.principalMoments.array());
+      if (b.isotropic) {
+        b.w = L / b.inertiaLocal(0, 0);
+      } else {
+        const Vec3 Lb = principal.conjugate() * L;
+        b.w = principal * Vec3(Lb.array() / b.principalMoments.array());
+      }
       b.momentum = L;
       b.wasFree = true;
       const Real vn = b.v.norm();
