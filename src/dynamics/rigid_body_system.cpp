@@ -110,6 +110,8 @@ struct ShapeRecord {
   bool atOrigin = true;  // local is the identity
   Material material;
   int proxy = DynamicTree::kNull;  // none for planes
+  // A sphere about the shape's origin that holds the shape (m); infinite for a plane.
+  Real radius = std::numeric_limits<Real>::infinity();
 };
 
 // Per contact, what the public ContactInfo does not carry: the friction state for warm starts.
@@ -253,6 +255,7 @@ struct RigidBodySystem::Data {
     BodyType bodyType = BodyType::Static;
     bool awake = false;
     bool fast = false;  // its body is continuous this step (BodyRecord::fast)
+    Real radius = 0;    // ShapeRecord::radius
   };
   std::vector<ShapeFrame> frames;
   std::vector<ContactManifold> manifolds;  // collide()'s scratch when the chunks run in sequence
@@ -507,6 +510,13 @@ ShapeId RigidBodySystem::addShape(BodyId bodyId, const Collider& collider,
   s.atOrigin = s.local.p == Vec3::Zero() && s.local.q.coeffs() == Quat::Identity().coeffs();
   s.material = material;
   s.proxy = DynamicTree::kNull;
+  s.radius = std::numeric_limits<Real>::infinity();
+  if (type != ShapeType::Plane) {
+    // The farthest corner of the local bounds, rounded up by a few ulps.
+    const Aabb box = localBounds(collider.shape());
+    s.radius = box.lower.cwiseAbs().cwiseMax(box.upper.cwiseAbs()).norm() *
+               (1 + 8 * std::numeric_limits<Real>::epsilon());
+  }
   if (type == ShapeType::Plane) {
     D.planes.push_back(index);
   } else {
@@ -763,7 +773,8 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
     b.fast = isBullet(b, dt, tuning);
     for (std::uint32_t si : b.shapes)
       D.frames[si] = {D.shapePose(D.shapes[si]), D.shapes[si].material, D.shapes[si].generation,
-                      bi, b.generation, D.shapes[si].collider.type(), b.type, b.awake, b.fast};
+                      bi, b.generation, D.shapes[si].collider.type(), b.type, b.awake, b.fast,
+                      D.shapes[si].radius};
     if (b.type == BodyType::Static || !b.awake) continue;
     const bool bullet = b.fast;
     const Vec3 displacement = b.v * dt;
@@ -871,6 +882,11 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, tbb::task_arena* 
         cs.speculativeDistance +=
             ((bb.v - ba.v).norm() + ba.w.norm() * ba.extent + bb.w.norm() * bb.extent) * dt;
       }
+      // The shapes' bounding spheres farther apart than the speculative distance: no contact,
+      // without the narrow phase. A third of a resting rain's box pairs whose fat boxes
+      // overlap end here. (A plane's infinite radius never passes.)
+      const Real reach = fa.radius + fb.radius + cs.speculativeDistance;
+      if ((fb.pose.p - fa.pose.p).squaredNorm() > reach * reach) continue;
       const Transform& poseA = fa.pose;
       const Transform& poseB = fb.pose;
       // The pair's ids, made only for a pair that has a manifold.
