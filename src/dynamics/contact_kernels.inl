@@ -306,6 +306,7 @@ template <class First>
 }
 
 [[gnu::always_inline]] inline Pack packOf(Row8 r) {
+  static_assert(kNatives == 1);
   Pack p;
   p.n[0] = Native(r);
   return p;
@@ -484,87 +485,120 @@ void warmStartSlice(const WideConstraint& c, const Slice& at, SolverBody* bodies
   y = y * scale;
 }
 
-void solveSlice(WideConstraint& c, const Slice& at, SolverBody* bodies, const BiasMode& mode) {
-  Side a = gather(c.bodyA, at, bodies), b = gather(c.bodyB, at, bodies);
-  const Pack mA = at(c.invMassA), mB = at(c.invMassB);
-  const V3 n = at(c.normal);
+// A bundle's state through a solve pass: its bodies' velocities and what every row reads.
+struct SolveState {
+  Side a, b;
+  Pack mA, mB;
+  V3 n;
+  Pack totalNormal;
+};
+
+[[gnu::always_inline]] inline SolveState beginSolve(const WideConstraint& c, const Slice& at,
+                                                    const SolverBody* bodies) {
+  return {gather(c.bodyA, at, bodies), gather(c.bodyB, at, bodies), at(c.invMassA),
+          at(c.invMassB), at(c.normal), Pack::zero()};
+}
+
+// The non-penetration row of point i.
+[[gnu::always_inline]] inline void normalRow(WideConstraint& c, int i, SolveState& st,
+                                             const Slice& at, const BiasMode& mode) {
   const Pack zero = Pack::zero(), one = Pack::splat(1);
   const Pack invH = Pack::splat(mode.invH);
   const Pack push = Pack::splat(-mode.pushVelocity);
-  Pack totalNormal = zero;
-
-  // Non-penetration rows.
-  for (int i = 0; i < c.pointCount; ++i) {
-    WidePoint& p = c.points[std::size_t(i)];
-    const Pack s = at(p.separation);
-    // s > 0: speculative, the gap may close within this substep, no more.
-    Pack bias = zero, massScale = one, impulseScale = zero;
-    if (mode.useBias) {
-      if (mode.soft) {
-        bias = max(at(c.biasRate) * s, push);
-        massScale = at(c.massScale);
-        impulseScale = at(c.impulseScale);
-      } else {
-        // Baumgarte: feed back a fraction of the overlap beyond the slop.
-        bias = max(Pack::splat(mode.baumgarte) * invH * min(s + Pack::splat(mode.linearSlop), zero),
-                   push);
-      }
+  WidePoint& p = c.points[std::size_t(i)];
+  const Pack s = at(p.separation);
+  // s > 0: speculative, the gap may close within this substep, no more.
+  Pack bias = zero, massScale = one, impulseScale = zero;
+  if (mode.useBias) {
+    if (mode.soft) {
+      bias = max(at(c.biasRate) * s, push);
+      massScale = at(c.massScale);
+      impulseScale = at(c.impulseScale);
+    } else {
+      // Baumgarte: feed back a fraction of the overlap beyond the slop.
+      bias = max(Pack::splat(mode.baumgarte) * invH * min(s + Pack::splat(mode.linearSlop), zero),
+                 push);
     }
-    const Mask open = s > zero;
-    bias = select(open, s * invH, bias);
-    massScale = select(open, one, massScale);
-    impulseScale = select(open, zero, impulseScale);
-
-    const Pack vn = rowVelocity(a, b, n, at(p.rnA), at(p.rnB));
-    const Pack accumulated = at(p.normalImpulse);
-    const Pack impulse0 =
-        -at(p.normalMass) * massScale * (vn + bias) - impulseScale * accumulated;
-    const Pack updated = max(accumulated + impulse0, zero);
-    const Pack impulse = updated - accumulated;
-    at.store(updated, p.normalImpulse);
-    at.store(max(at(p.maxNormalImpulse), impulse), p.maxNormalImpulse);
-    totalNormal += updated;
-    applyRow(a, b, mA, mB, n, at(p.wnA), at(p.wnB), impulse);
   }
+  const Mask open = s > zero;
+  bias = select(open, s * invH, bias);
+  massScale = select(open, one, massScale);
+  impulseScale = select(open, zero, impulseScale);
 
-  // Coulomb friction: the tangential impulse stays in the disc of radius mu * normal.
+  const Pack vn = rowVelocity(st.a, st.b, st.n, at(p.rnA), at(p.rnB));
+  const Pack accumulated = at(p.normalImpulse);
+  const Pack impulse0 = -at(p.normalMass) * massScale * (vn + bias) - impulseScale * accumulated;
+  const Pack updated = max(accumulated + impulse0, zero);
+  const Pack impulse = updated - accumulated;
+  at.store(updated, p.normalImpulse);
+  at.store(max(at(p.maxNormalImpulse), impulse), p.maxNormalImpulse);
+  st.totalNormal += updated;
+  applyRow(st.a, st.b, st.mA, st.mB, st.n, at(p.wnA), at(p.wnB), impulse);
+}
+
+// Coulomb friction at point i: the tangential impulse stays in the disc of radius mu * normal.
+[[gnu::always_inline]] inline void frictionRows(WideConstraint& c, int i, SolveState& st,
+                                                const Slice& at) {
+  WidePoint& p = c.points[std::size_t(i)];
   const V3 t[2] = {at(c.tangent[0]), at(c.tangent[1])};
-  const Pack friction = at(c.friction);
-  for (int i = 0; i < c.pointCount; ++i) {
-    WidePoint& p = c.points[std::size_t(i)];
-    Pack old[2], updated[2];
-    for (int k = 0; k < 2; ++k) {
-      old[k] = at(p.tangentImpulse[k]);
-      updated[k] = old[k] - at(p.tangentMass[k]) *
-                                rowVelocity(a, b, t[k], at(p.rtA[k]), at(p.rtB[k]));
-    }
-    clampDisc(updated[0], updated[1], friction * at(p.normalImpulse));
-    for (int k = 0; k < 2; ++k) {
-      applyRow(a, b, mA, mB, t[k], at(p.wtA[k]), at(p.wtB[k]), updated[k] - old[k]);
-      at.store(updated[k], p.tangentImpulse[k]);
-    }
+  Pack old[2], updated[2];
+#pragma GCC unroll 2
+  for (int k = 0; k < 2; ++k) {
+    old[k] = at(p.tangentImpulse[k]);
+    updated[k] =
+        old[k] - at(p.tangentMass[k]) * rowVelocity(st.a, st.b, t[k], at(p.rtA[k]), at(p.rtB[k]));
   }
+  clampDisc(updated[0], updated[1], at(c.friction) * at(p.normalImpulse));
+#pragma GCC unroll 2
+  for (int k = 0; k < 2; ++k) {
+    applyRow(st.a, st.b, st.mA, st.mB, t[k], at(p.wtA[k]), at(p.wtB[k]), updated[k] - old[k]);
+    at.store(updated[k], p.tangentImpulse[k]);
+  }
+}
 
-  // Rolling resistance (torque <= b N about the tangents) and spinning friction. A lane
-  // without them has a limit of zero and keeps impulses of zero.
-  if (c.angular) {
-    const V3 dw = b.w - a.w;
-    const Pack old[2] = {at(c.rollingImpulse[0]), at(c.rollingImpulse[1])};
-    Pack roll[2];
-    for (int k = 0; k < 2; ++k)
-      roll[k] = old[k] - at(c.rollingMass[k]) * dot(dw, t[k]);
-    clampDisc(roll[0], roll[1], at(c.rolling) * totalNormal);
-    const Pack limit = at(c.spinning) * totalNormal;
-    const Pack oldSpin = at(c.spinningImpulse);
-    const Pack spin =
-        min(max(oldSpin - at(c.spinningMass) * dot(dw, n), -limit), limit);
-    applyAngular(a, b, c, at, roll[0] - old[0], roll[1] - old[1], spin - oldSpin);
-    at.store(roll[0], c.rollingImpulse[0]);
-    at.store(roll[1], c.rollingImpulse[1]);
-    at.store(spin, c.spinningImpulse);
+// Rolling resistance (torque <= b N about the tangents) and spinning friction. A lane without
+// them has a limit of zero and keeps impulses of zero.
+[[gnu::always_inline]] inline void angularRows(WideConstraint& c, SolveState& st,
+                                               const Slice& at) {
+  const V3 t[2] = {at(c.tangent[0]), at(c.tangent[1])};
+  const V3 dw = st.b.w - st.a.w;
+  const Pack old[2] = {at(c.rollingImpulse[0]), at(c.rollingImpulse[1])};
+  Pack roll[2];
+  for (int k = 0; k < 2; ++k) roll[k] = old[k] - at(c.rollingMass[k]) * dot(dw, t[k]);
+  clampDisc(roll[0], roll[1], at(c.rolling) * st.totalNormal);
+  const Pack limit = at(c.spinning) * st.totalNormal;
+  const Pack oldSpin = at(c.spinningImpulse);
+  const Pack spin = min(max(oldSpin - at(c.spinningMass) * dot(dw, st.n), -limit), limit);
+  applyAngular(st.a, st.b, c, at, roll[0] - old[0], roll[1] - old[1], spin - oldSpin);
+  at.store(roll[0], c.rollingImpulse[0]);
+  at.store(roll[1], c.rollingImpulse[1]);
+  at.store(spin, c.spinningImpulse);
+}
+
+// One pass over N bundles of one colour with the same point count, row by row in step: the
+// bundles share no moving body, so their rows are independent chains that the processor
+// overlaps, and each computes what it would alone.
+template <int N>
+void solveSlices(WideConstraint* const (&cs)[N], const Slice& at, SolverBody* bodies,
+                 const BiasMode& mode) {
+  SolveState st[N];
+#pragma GCC unroll 2
+  for (int j = 0; j < N; ++j) st[j] = beginSolve(*cs[j], at, bodies);
+  const int points = cs[0]->pointCount;
+  for (int i = 0; i < points; ++i) {
+#pragma GCC unroll 2
+    for (int j = 0; j < N; ++j) normalRow(*cs[j], i, st[j], at, mode);
   }
-  scatter(a, c.bodyA, c.writeA, at, bodies);
-  scatter(b, c.bodyB, c.writeB, at, bodies);
+  for (int i = 0; i < points; ++i) {
+#pragma GCC unroll 2
+    for (int j = 0; j < N; ++j) frictionRows(*cs[j], i, st[j], at);
+  }
+#pragma GCC unroll 2
+  for (int j = 0; j < N; ++j) {
+    if (cs[j]->angular) angularRows(*cs[j], st[j], at);
+    scatter(st[j].a, cs[j]->bodyA, cs[j]->writeA, at, bodies);
+    scatter(st[j].b, cs[j]->bodyB, cs[j]->writeB, at, bodies);
+  }
 }
 
 void updateApproachSlice(WideConstraint& c, const Slice& at, const SolverBody* bodies) {
@@ -616,11 +650,12 @@ struct Motion {
 // eight.
 [[gnu::always_inline]] inline Motion gatherMotion(const std::array<int, kLanes>& index,
                                                   const Slice& at, const SolverBody* bodies) {
-  alignas(32) static constexpr Real kStill[8] = {0, 0, 0, 1, 0, 0, 0, 1};  // dp zero, dR identity
-  alignas(32) static constexpr Real kStillR[8] = {0, 0, 0, 1, 0, 0, 0, 1};
+  // Both rows of a body that has not moved: dp zero, dR identity (0 0 0 1 0 0 0 1 from either
+  // start).
+  alignas(32) static constexpr Real kStill[8] = {0, 0, 0, 1, 0, 0, 0, 1};
   Row8 p[8], q[8];
   gatherRows(index, at, bodies, [](const SolverBody& b) { return b.dp.data(); }, kStill, p);
-  gatherRows(index, at, bodies, [](const SolverBody& b) { return b.dR.data() + 1; }, kStillR, q);
+  gatherRows(index, at, bodies, [](const SolverBody& b) { return b.dR.data() + 1; }, kStill, q);
   return {{{packOf(p[3]), packOf(q[0]), packOf(q[1])},
            {packOf(q[2]), packOf(q[3]), packOf(q[4])},
            {packOf(q[5]), packOf(q[6]), packOf(q[7])}},
@@ -682,8 +717,21 @@ void warmStartRange(const WideConstraint* c, std::size_t count, SolverBody* bodi
     forSlices(c[k], [&](const Slice& at) { warmStartSlice(c[k], at, bodies); });
 }
 void solveRange(WideConstraint* c, std::size_t count, SolverBody* bodies, const BiasMode& mode) {
-  for (std::size_t k = 0; k < count; ++k)
-    forSlices(c[k], [&](const Slice& at) { solveSlice(c[k], at, bodies, mode); });
+  for (std::size_t k = 0; k < count; ++k) {
+    // Two bundles at once where they are alike. Not the overflow's, which may share bodies:
+    // its bundles hold one constraint each.
+    if (kSlices == 1 && k + 1 < count && c[k].lanes > 1 && c[k + 1].lanes > 1 &&
+        c[k].pointCount == c[k + 1].pointCount) {
+      WideConstraint* const pair[2] = {&c[k], &c[k + 1]};
+      solveSlices(pair, Slice{0}, bodies, mode);
+      ++k;
+      continue;
+    }
+    forSlices(c[k], [&](const Slice& at) {
+      WideConstraint* const one[1] = {&c[k]};
+      solveSlices(one, at, bodies, mode);
+    });
+  }
 }
 void updateApproachRange(WideConstraint* c, std::size_t count, const SolverBody* bodies) {
   for (std::size_t k = 0; k < count; ++k)

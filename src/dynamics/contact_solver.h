@@ -135,7 +135,7 @@ struct WidePoint {
   WideReal rA[3], rB[3];
   WideReal adjustedSeparation, normalMass, tangentMass[2];
   /// The current separation (m): adjustedSeparation plus the bodies' motion since the step's
-  /// start, refreshed with the moved normal (ContactBundles::updateMotion).
+  /// start, refreshed by ContactBundles::build and updateMotion.
   WideReal separation;
   WideReal normalImpulse, tangentImpulse[2], maxNormalImpulse, relativeVelocity;
   WideReal rnA[3], rnB[3], wnA[3], wnB[3];

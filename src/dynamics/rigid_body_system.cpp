@@ -255,7 +255,7 @@ struct RigidBodySystem::Data {
     BodyType bodyType = BodyType::Static;
     bool awake = false;
     bool fast = false;  // its body is continuous this step (BodyRecord::fast)
-    Real radius = 0;    // ShapeRecord::radius
+    Real radius = std::numeric_limits<Real>::infinity();  // ShapeRecord::radius
   };
   std::vector<ShapeFrame> frames;
   std::vector<ContactManifold> manifolds;  // collide()'s scratch when the chunks run in sequence

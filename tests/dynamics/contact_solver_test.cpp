@@ -363,8 +363,10 @@ TEST(ContactSolver, BundledLanesEqualConstraintsSolvedOneByOne) {
 }
 
 // The AVX2 and AVX-512 kernels give the SSE2 kernels' bits (lane-wise IEEE arithmetic
-// without fused multiply-adds; AVX-512 runs a bundle's sixteen lanes at once, the others in
-// two slices). A set the processor lacks falls back to the widest it has.
+// without fused multiply-adds; AVX-512 runs a bundle's sixteen lanes at once and solves two
+// bundles of a colour side by side, the others run a bundle in two slices; the float AVX2 and
+// AVX-512 kernels move the velocities by transposes). A set the processor lacks falls back to
+// the widest it has.
 TEST(ContactSolver, WideKernelsGiveTheSse2KernelsBits) {
   const auto [start, cs0, col] = coloredGraph(14, 300, 700);
   const SimdLevel best = bestContactSimd();
