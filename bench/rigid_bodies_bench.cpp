@@ -1,7 +1,8 @@
 // Rigid bodies against Bullet 3 (btDiscreteDynamicsWorld: btDbvtBroadphase,
-// btSequentialImpulseConstraintSolver with its default 10 iterations) in the same run, single
-// thread, sleeping off in both, 600 steps of 1/60 s. The scenes come from the shared builders'
-// BodyDesc lists and are built from the same list in both engines:
+// btSequentialImpulseConstraintSolver with its default 10 iterations) and, when it is installed,
+// ODE (hash space, dWorldQuickStep with its default 20 iterations) in the same run, single
+// thread, sleeping off in all, 600 steps of 1/60 s. The scenes come from the shared builders'
+// BodyDesc lists and are built from the same list in every engine:
 // - pyramid: a 2D-style wall of unit boxes, base 40 (820 boxes), on a ground plane;
 // - pile: 4,000 spheres (r 0.5 m) in 20 x 20 columns of 10 layers, spacing 1.1 m, falling into
 //   a 25 x 25 m box (ground plane + 4 static box walls);
@@ -22,6 +23,9 @@
 #include <vector>
 
 #include <btBulletDynamicsCommon.h>
+#ifdef INERTIA_BENCH_ODE
+#include <ode/ode.h>
+#endif
 
 #include "inertia/world/builders.h"
 #include "inertia/world/world.h"
@@ -108,7 +112,7 @@ struct Result {
   double kineticEnergy = 0;  // J
 };
 
-// The checks on final positions, shared by both engines.
+// The checks on final positions, shared by the engines.
 void checkPositions(const Scene& scene, const std::vector<Vec3>& final, Result& r) {
   for (std::size_t i = 0; i < final.size(); ++i) {
     const Vec3& p = final[i];
@@ -224,6 +228,112 @@ Result runBullet(const Scene& scene) {
   return r;
 }
 
+#ifdef INERTIA_BENCH_ODE
+// ODE: a hash space, contacts from dCollide (at most 4 per pair, as the other engines'
+// manifolds) as contact joints with friction mu = 0.6 scaled by the normal force
+// (dContactApprox1, ODE's Coulomb approximation), and no bounce; the world's default ERP 0.2 and
+// CFM; dWorldQuickStep with its default 20 iterations; auto-disable off (its default).
+struct OdeWorld {
+  dWorldID world = dWorldCreate();
+  dSpaceID space = dHashSpaceCreate(nullptr);
+  dJointGroupID contacts = dJointGroupCreate(0);
+  ~OdeWorld() {
+    dJointGroupDestroy(contacts);
+    dSpaceDestroy(space);
+    dWorldDestroy(world);
+  }
+};
+
+void odeNear(void* data, dGeomID g1, dGeomID g2) {
+  OdeWorld& w = *static_cast<OdeWorld*>(data);
+  const dBodyID b1 = dGeomGetBody(g1), b2 = dGeomGetBody(g2);
+  if (b1 == nullptr && b2 == nullptr) return;  // two static geoms
+  constexpr int kMax = 4;
+  dContact contact[kMax] = {};
+  const int n = dCollide(g1, g2, kMax, &contact[0].geom, sizeof(dContact));
+  for (int i = 0; i < n; ++i) {
+    contact[i].surface.mode = dContactApprox1;
+    contact[i].surface.mu = double(kFriction);
+    const dJointID j = dJointCreateContact(w.world, w.contacts, &contact[i]);
+    dJointAttach(j, b1, b2);
+  }
+}
+
+Result runOde(const Scene& scene) {
+  OdeWorld w;
+  dWorldSetGravity(w.world, 0, -9.81, 0);
+  dWorldSetAutoDisableFlag(w.world, 0);
+  std::vector<dBodyID> dynamic;
+  for (const std::vector<BodyDesc>* list : {&scene.statics, &scene.dynamics}) {
+    for (const BodyDesc& d : *list) {
+      if (d.shapes.size() != 1) std::abort();  // one shape, at the origin
+      const ShapeDesc& s = d.shapes[0];
+      const bool isStatic = d.settings.type == BodyType::Static;
+      dGeomID geom = nullptr;
+      dMass mass;
+      const double density = double(s.material.density);
+      if (const Plane* p = s.shape.getIf<Plane>()) {
+        geom = dCreatePlane(w.space, p->normal.x(), p->normal.y(), p->normal.z(), p->offset);
+      } else if (const Box* b = s.shape.getIf<Box>()) {
+        const Vec3 size = 2 * b->halfExtents;  // ODE takes full side lengths
+        geom = dCreateBox(w.space, size.x(), size.y(), size.z());
+        dMassSetBox(&mass, density, size.x(), size.y(), size.z());
+      } else if (const Sphere* sp = s.shape.getIf<Sphere>()) {
+        geom = dCreateSphere(w.space, sp->radius);
+        dMassSetSphere(&mass, density, sp->radius);
+      } else {
+        std::abort();
+      }
+      const Vec3& x = d.settings.position;
+      const Quat& q = d.settings.orientation;
+      const dQuaternion dq = {q.w(), q.x(), q.y(), q.z()};  // ODE: w first
+      if (isStatic) {
+        if (s.shape.getIf<Plane>() == nullptr) {
+          dGeomSetPosition(geom, x.x(), x.y(), x.z());
+          dGeomSetQuaternion(geom, dq);
+        }
+        continue;
+      }
+      const dBodyID body = dBodyCreate(w.world);
+      dBodySetMass(body, &mass);
+      dBodySetPosition(body, x.x(), x.y(), x.z());
+      dBodySetQuaternion(body, dq);
+      dGeomSetBody(geom, body);
+      dynamic.push_back(body);
+    }
+  }
+
+  double total = 0;
+  for (int i = 0; i < kSteps; ++i) {
+    const auto t0 = Clock::now();
+    dSpaceCollide(w.space, &w, odeNear);
+    dWorldQuickStep(w.world, double(kDt));
+    dJointGroupEmpty(w.contacts);
+    total += std::chrono::duration<double>(Clock::now() - t0).count();
+  }
+  Result r;
+  r.msPerStep = 1e3 * total / kSteps;
+  std::vector<Vec3> final;
+  for (const dBodyID b : dynamic) {
+    const dReal* p = dBodyGetPosition(b);
+    final.emplace_back(Real(p[0]), Real(p[1]), Real(p[2]));
+    dMass m;
+    dBodyGetMass(b, &m);
+    const dReal* v = dBodyGetLinearVel(b);
+    const dReal* wv = dBodyGetAngularVel(b);
+    // The rotational energy in the body's frame: w_b = R^T w, R and I row-major 3 x 4.
+    const dReal* R = dBodyGetRotation(b);
+    double wb[3], e = 0;
+    for (int k = 0; k < 3; ++k) wb[k] = R[k] * wv[0] + R[4 + k] * wv[1] + R[8 + k] * wv[2];
+    for (int k = 0; k < 3; ++k)
+      for (int l = 0; l < 3; ++l) e += wb[k] * m.I[4 * k + l] * wb[l];
+    r.kineticEnergy += 0.5 * m.mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) + 0.5 * e;
+  }
+  checkPositions(scene, final, r);
+  return r;
+}
+#endif
+
 void printRow(const Scene& scene, const char* engine, const Result& r) {
   const double ms = 1e3 / kSteps;
   char split[96] = "-";
@@ -247,6 +357,9 @@ void printRow(const Scene& scene, const char* engine, const Result& r) {
 // Arguments, all optional: scene names to run (default: all three).
 int main(int argc, char** argv) {
   std::vector<std::string> only(argv + 1, argv + argc);
+#ifdef INERTIA_BENCH_ODE
+  dInitODE2(0);
+#endif
   std::printf(
       "rigid bodies: %d steps of 1/60 s, 1 thread, sleeping off, Real = %s, Bullet btScalar = "
       "%s; friction 0.6, restitution 0, density 1000 kg/m^3; Inertia's contact kernels: %s "
@@ -268,13 +381,26 @@ int main(int argc, char** argv) {
     printRow(scene, "Inertia soft_step (4 substeps, 2 it. + 1 relax)",
              runInertia(scene, {.iterations = 2}));
     printRow(scene, "Bullet SI (10 it., split impulse)", runBullet(scene));
+#ifdef INERTIA_BENCH_ODE
+    printRow(scene, "ODE QuickStep (20 it.)", runOde(scene));
+#endif
   }
   std::printf(
       "\nms/step: mean wall-clock time of the %d steps. Inertia's phase split from "
       "World::phaseTimes(). Bullet: btDiscreteDynamicsWorld, btDbvtBroadphase, "
       "btSequentialImpulseConstraintSolver (defaults: 10 iterations, split impulse, "
-      "warm starting 0.85), stepSimulation(1/60, 0), DISABLE_DEACTIVATION. Pyramid max disp.: the "
-      "largest final displacement of a box from its start; it stands when <= 0.25 m.\n",
-      kSteps);
+      "warm starting 0.85), stepSimulation(1/60, 0), DISABLE_DEACTIVATION.%s Pyramid max disp.: "
+      "the largest final displacement of a box from its start; it stands when <= 0.25 m.\n",
+      kSteps,
+#ifdef INERTIA_BENCH_ODE
+      " ODE (double): dHashSpace, up to 4 contacts a pair, dContactApprox1 with mu 0.6, "
+      "default ERP 0.2 and CFM, dWorldQuickStep (default 20 iterations), auto-disable off."
+#else
+      " ODE not built (libode-dev not found)."
+#endif
+  );
+#ifdef INERTIA_BENCH_ODE
+  dCloseODE();
+#endif
   return 0;
 }

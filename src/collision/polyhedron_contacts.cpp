@@ -129,8 +129,9 @@ bool collidePolyhedra(const PolyView& a, const Transform& poseA, const PolyView&
 bool collideBoxes(const Box& boxA, const Transform& poseA, const Box& boxB,
                   const Transform& poseB, const ContactSettings& settings, ContactManifold& m) {
   const Real spec = settings.speculativeDistance;
-  // The boxes are at least the centres' distance minus their circumradii apart: most pairs of
-  // a rain's overlapping fat boxes end here, before the fifteen axes.
+  // The boxes are at least the centres' distance minus their circumradii apart: such pairs end
+  // here, before the fifteen axes. (The world's narrow phase makes the same test on every pair
+  // of shapes before it calls a collision function.)
   const Real reach = boxA.halfExtents.norm() + boxB.halfExtents.norm() + spec;
   if ((poseB.p - poseA.p).squaredNorm() > reach * reach) return false;
   const Transform bToA = poseA.inverse() * poseB;
