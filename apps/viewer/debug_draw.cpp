@@ -85,15 +85,16 @@ void buildDebugLines(const World& world, const DebugDrawFlags& flags, Real scale
     }
   }
   if (flags.broadPhaseTree) {
-    const DynamicTree& tree = rb.broadPhaseTree();
-    const float top = float(std::max(tree.height(), 1));
-    tree.forEachNode([&](const Aabb& b, int height) {
+    const std::vector<BroadPhaseNode> nodes = rb.broadPhaseNodes();
+    int height = 1;
+    for (const BroadPhaseNode& n : nodes) height = std::max(height, n.height);
+    for (const BroadPhaseNode& n : nodes) {
       // Leaves grey; inner nodes from green (low) to orange (the root).
-      const float t = float(height) / top;
-      const Eigen::Vector3f color = height == 0 ? kTreeLeaf
-                                                : Eigen::Vector3f(0.2f + 0.8f * t, 0.8f, 0.2f);
-      box(out, b, color);
-    });
+      const float t = float(n.height) / float(height);
+      const Eigen::Vector3f color = n.height == 0 ? kTreeLeaf
+                                                  : Eigen::Vector3f(0.2f + 0.8f * t, 0.8f, 0.2f);
+      box(out, n.box, color);
+    }
   }
   if (flags.meshBvh) {
     for (BodyId body : rb.bodies())

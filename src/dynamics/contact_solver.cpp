@@ -2,15 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <numeric>
 #include <utility>
-
-#include <cstring>
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #if defined(__x86_64__) || defined(__i386__)
 #include <immintrin.h>
@@ -55,7 +50,8 @@ void computeMasses(ContactConstraint& c, const SolverBody& a, const SolverBody& 
     for (std::size_t k = 0; k < 2; ++k) p.tangentMass[k] = rowMass(p, c.tangent[k]);
   }
   const Mat3 iSum = a.invInertia + b.invInertia;
-  for (int k = 0; k < 2; ++k) c.rollingMass[k] = invEffective(c.tangent[k].dot(iSum * c.tangent[k]));
+  for (int k = 0; k < 2; ++k)
+    c.rollingMass[k] = invEffective(c.tangent[k].dot(iSum * c.tangent[k]));
   c.spinningMass = invEffective(c.normal.dot(iSum * c.normal));
 }
 
@@ -86,7 +82,8 @@ void colorConstraints(const std::vector<ContactConstraint>& cs,
   }
   out.offsets.assign(1, 0);
   for (int c = 0; c <= kMaxColors; ++c)
-    if (counts[std::size_t(c)] > 0) out.offsets.push_back(out.offsets.back() + counts[std::size_t(c)]);
+    if (counts[std::size_t(c)] > 0)
+      out.offsets.push_back(out.offsets.back() + counts[std::size_t(c)]);
   out.overflow = counts[kMaxColors] > 0;
   // Stable: within a colour, constraints keep their order.
   std::array<std::uint32_t, kMaxColors + 1> next{};
@@ -96,7 +93,6 @@ void colorConstraints(const std::vector<ContactConstraint>& cs,
   for (std::size_t k = 0; k < cs.size(); ++k)
     out.order[next[std::size_t(color[k])]++] = static_cast<std::uint32_t>(k);
 }
-
 
 // The kernels, once per instruction set (contact_kernels.inl).
 namespace sse2 {
@@ -137,14 +133,14 @@ struct Kernels {
   void (*updateMotion)(WideConstraint*, std::size_t, const SolverBody*);
 };
 
-constexpr Kernels kSse2{sse2::prepareBundle, sse2::warmStartRange, sse2::solveRange, sse2::updateApproachRange,
-                        sse2::restitutionRange, sse2::updateMotionRange};
+constexpr Kernels kSse2{sse2::prepareBundle,       sse2::warmStartRange,   sse2::solveRange,
+                        sse2::updateApproachRange, sse2::restitutionRange, sse2::updateMotionRange};
 #ifdef INERTIA_HAVE_AVX2_KERNELS
-constexpr Kernels kAvx2{avx2::prepareBundle, avx2::warmStartRange, avx2::solveRange, avx2::updateApproachRange,
-                        avx2::restitutionRange, avx2::updateMotionRange};
-constexpr Kernels kAvx512{avx512::prepareBundle, avx512::warmStartRange, avx512::solveRange,
-                          avx512::updateApproachRange, avx512::restitutionRange,
-                          avx512::updateMotionRange};
+constexpr Kernels kAvx2{avx2::prepareBundle,       avx2::warmStartRange,   avx2::solveRange,
+                        avx2::updateApproachRange, avx2::restitutionRange, avx2::updateMotionRange};
+constexpr Kernels kAvx512{avx512::prepareBundle,    avx512::warmStartRange,
+                          avx512::solveRange,       avx512::updateApproachRange,
+                          avx512::restitutionRange, avx512::updateMotionRange};
 #endif
 
 SimdChoice& contactChoice() {
@@ -164,30 +160,6 @@ const Kernels& kernels() {
   }
 #endif
   return kSse2;
-}
-
-// Runs `pass(first, count)` over the bundles colour by colour; a colour's bundles share no
-// moving body, so they run in parallel on the arena with the same result as in sequence. The
-// overflow group, whose bundles may share bodies, runs in sequence.
-template <class Pass>
-void runGroups(const std::vector<std::uint32_t>& offsets, bool overflow, tbb::task_arena* arena,
-               Pass pass) {
-  constexpr std::uint32_t grain = std::max<std::uint32_t>(1, kColorGrain / kLanes);
-  const std::size_t groups = offsets.empty() ? 0 : offsets.size() - 1;
-  for (std::size_t g = 0; g < groups; ++g) {
-    const std::uint32_t begin = offsets[g], end = offsets[g + 1];
-    const bool sequential = g + 1 == groups && overflow;
-    if (arena && !sequential && end - begin >= 2 * grain) {
-      arena->execute([&] {
-        tbb::parallel_for(tbb::blocked_range<std::uint32_t>(begin, end, grain),
-                          [&](const tbb::blocked_range<std::uint32_t>& r) {
-                            pass(r.begin(), r.size());
-                          });
-      });
-    } else {
-      pass(begin, std::size_t(end - begin));
-    }
-  }
 }
 
 // Every constraint alone, in the order of `cs`.
@@ -257,29 +229,52 @@ SimdLevel setContactSimd(SimdLevel level) {
   return contactChoice().force(std::max(level, SimdLevel::Sse2));
 }
 
+// Bundles per block of a colour's parallel pass: about kColorGrain constraints.
+constexpr std::size_t kBundleGrain = std::max<std::size_t>(1, kColorGrain / kLanes);
+
+// A colour's bundles share no moving body, so the workers run them in blocks with the same
+// result as in sequence. The overflow group, whose bundles may share bodies, runs in sequence
+// on the main worker.
+template <class Pass>
+void ContactBundles::forColors(StepWorkers& workers, Pass pass) const {
+  const std::size_t groups = groupOffsets_.empty() ? 0 : groupOffsets_.size() - 1;
+  for (std::size_t g = 0; g < groups; ++g) {
+    const std::uint32_t begin = groupOffsets_[g], end = groupOffsets_[g + 1];
+    if (g + 1 == groups && overflow_) {
+      pass(begin, std::size_t(end - begin));
+      continue;
+    }
+    workers.parallelFor(end - begin, kBundleGrain, [&](std::size_t first, std::size_t last) {
+      pass(std::uint32_t(begin + first), last - first);
+    });
+  }
+}
+
+template <class Pass>
+void ContactBundles::forAll(StepWorkers& workers, Pass pass) const {
+  workers.parallelFor(
+      bundles_.size(),
+      [&](std::size_t first, std::size_t last) { pass(std::uint32_t(first), last - first); },
+      kBundleGrain);
+}
+
 void ContactBundles::build(const std::vector<ContactConstraint>& cs,
                            const std::vector<SolverBody>& bodies,
-                           const ConstraintColoring& coloring) {
+                           const ConstraintColoring& coloring, StepWorkers& workers) {
   const std::size_t groups = coloring.offsets.empty() ? 0 : coloring.offsets.size() - 1;
   overflow_ = coloring.overflow;
   groupOffsets_.assign(1, 0);
-  // Bundle counts first, so the bundles are made in place.
-  std::size_t total = 0;
-  for (std::size_t g = 0; g < groups; ++g) {
-    const std::size_t n = coloring.offsets[g + 1] - coloring.offsets[g];
-    const bool sequential = g + 1 == groups && overflow_;
-    total += sequential ? n : (n + kLanes - 1) / kLanes;
-  }
-  bundles_.resize(total);
-  std::vector<std::uint32_t>& members = members_;
-  std::size_t next = 0;
-  const Kernels& kernel = kernels();
+  members_.resize(coloring.order.size());
+  firstMember_.clear();
+  // The members of each bundle, in sequence (cheap); the bundles are then packed in parallel.
   for (std::size_t g = 0; g < groups; ++g) {
     const bool sequential = g + 1 == groups && overflow_;
-    const auto begin = coloring.order.begin() + coloring.offsets[g];
+    const std::uint32_t offset = coloring.offsets[g];
+    const auto begin = coloring.order.begin() + offset;
     const auto end = coloring.order.begin() + coloring.offsets[g + 1];
+    std::uint32_t* members = members_.data() + offset;
     if (sequential) {
-      members.assign(begin, end);
+      std::copy(begin, end, members);
     } else {
       // Lanes of a bundle run as many points as its fullest lane: bundle like with like, most
       // points first (a stable counting sort on 0..4 points). The order within a colour does
@@ -287,84 +282,137 @@ void ContactBundles::build(const std::vector<ContactConstraint>& cs,
       std::array<std::uint32_t, 5> slot{};
       for (auto it = begin; it != end; ++it) ++slot[std::size_t(4 - cs[*it].pointCount)];
       for (std::uint32_t k = 0, sum = 0; k < slot.size(); ++k) sum += std::exchange(slot[k], sum);
-      members.resize(std::size_t(end - begin));
       for (auto it = begin; it != end; ++it)
         members[slot[std::size_t(4 - cs[*it].pointCount)]++] = *it;
     }
-    const std::size_t per = sequential ? 1 : std::size_t(kLanes);
-    for (std::size_t first = 0; first < members.size(); first += per) {
-      WideConstraint& w = bundles_[next++];
-      const int lanes = int(std::min(per, members.size() - first));
-      int points = 0;
-      for (int l = 0; l < lanes; ++l)
-        points = std::max(points, cs[members[first + std::size_t(l)]].pointCount);
-      w.clear(points);
-      w.bodyA.fill(-1);
-      w.bodyB.fill(-1);
-      w.lanes = lanes;
-      w.pointCount = points;
-      WideInertia inertia{};
-      for (int l = 0; l < w.lanes; ++l) {
-        const std::uint32_t k = members[first + std::size_t(l)];
-        w.source[std::size_t(l)] = k;
-        packLane(w, inertia, l, cs[k], bodies);
-      }
-      kernel.prepare(w, inertia);
-    }
-    groupOffsets_.push_back(static_cast<std::uint32_t>(next));
+    const std::uint32_t per = sequential ? 1 : std::uint32_t(kLanes);
+    for (std::uint32_t first = offset; first < coloring.offsets[g + 1]; first += per)
+      firstMember_.push_back(first);
+    groupOffsets_.push_back(static_cast<std::uint32_t>(firstMember_.size()));
   }
-  updateMotion(bodies);
+  firstMember_.push_back(static_cast<std::uint32_t>(coloring.order.size()));
+  bundles_.resize(firstMember_.size() - 1);
+  const Kernels& kernel = kernels();
+  workers.parallelFor(
+      bundles_.size(),
+      [&](std::size_t firstBundle, std::size_t lastBundle) {
+        for (std::size_t i = firstBundle; i < lastBundle; ++i) {
+          WideConstraint& w = bundles_[i];
+          // A bundle ends at the next one's first member, or at its group's end.
+          const std::uint32_t first = firstMember_[i];
+          const int lanes = int(std::min<std::uint32_t>(firstMember_[i + 1] - first, kLanes));
+          int points = 0;
+          for (int l = 0; l < lanes; ++l)
+            points = std::max(points, cs[members_[first + std::uint32_t(l)]].pointCount);
+          w.clear(points);
+          w.bodyA.fill(-1);
+          w.bodyB.fill(-1);
+          w.lanes = lanes;
+          w.pointCount = points;
+          WideInertia inertia{};
+          for (int l = 0; l < w.lanes; ++l) {
+            const std::uint32_t k = members_[first + std::uint32_t(l)];
+            w.source[std::size_t(l)] = k;
+            packLane(w, inertia, l, cs[k], bodies);
+          }
+          kernel.prepare(w, inertia);
+        }
+      },
+      8);
+  updateMotion(bodies, workers);
 }
 
-void ContactBundles::updateMotion(const std::vector<SolverBody>& bodies) {
-  kernels().updateMotion(bundles_.data(), bundles_.size(), bodies.data());
-}
-
-void ContactBundles::warmStart(std::vector<SolverBody>& bodies, tbb::task_arena* arena) const {
+void ContactBundles::updateMotion(const std::vector<SolverBody>& bodies, StepWorkers& workers) {
   const Kernels& k = kernels();
-  runGroups(groupOffsets_, overflow_, arena, [&](std::uint32_t first, std::size_t count) {
+  forAll(workers, [&](std::uint32_t first, std::size_t count) {
+    k.updateMotion(bundles_.data() + first, count, bodies.data());
+  });
+}
+
+void ContactBundles::warmStart(std::vector<SolverBody>& bodies, StepWorkers& workers) const {
+  const Kernels& k = kernels();
+  forColors(workers, [&](std::uint32_t first, std::size_t count) {
     k.warmStart(bundles_.data() + first, count, bodies.data());
   });
 }
 
 void ContactBundles::solve(std::vector<SolverBody>& bodies, const BiasMode& mode,
-                           tbb::task_arena* arena) {
+                           StepWorkers& workers) {
   const Kernels& k = kernels();
-  runGroups(groupOffsets_, overflow_, arena, [&](std::uint32_t first, std::size_t count) {
+  forColors(workers, [&](std::uint32_t first, std::size_t count) {
     k.solve(bundles_.data() + first, count, bodies.data(), mode);
   });
 }
 
-void ContactBundles::updateApproach(const std::vector<SolverBody>& bodies) {
-  kernels().updateApproach(bundles_.data(), bundles_.size(), bodies.data());
+void ContactBundles::updateApproach(const std::vector<SolverBody>& bodies, StepWorkers& workers) {
+  const Kernels& k = kernels();
+  forAll(workers, [&](std::uint32_t first, std::size_t count) {
+    k.updateApproach(bundles_.data() + first, count, bodies.data());
+  });
 }
 
 void ContactBundles::applyRestitution(std::vector<SolverBody>& bodies, Real threshold,
-                                      tbb::task_arena* arena) {
+                                      StepWorkers& workers) {
   const Kernels& k = kernels();
-  runGroups(groupOffsets_, overflow_, arena, [&](std::uint32_t first, std::size_t count) {
+  forColors(workers, [&](std::uint32_t first, std::size_t count) {
     k.restitution(bundles_.data() + first, count, bodies.data(), threshold);
   });
 }
 
-void ContactBundles::store(std::vector<ContactConstraint>& cs) const {
-  for (const WideConstraint& w : bundles_) {
-    for (int l = 0; l < w.lanes; ++l) {
-      ContactConstraint& c = cs[w.source[std::size_t(l)]];
-      for (int i = 0; i < c.pointCount; ++i) {
-        ConstraintPoint& p = c.points[std::size_t(i)];
-        const WidePoint& q = w.points[std::size_t(i)];
-        p.normalImpulse = q.normalImpulse.lane[l];
-        p.maxNormalImpulse = q.maxNormalImpulse.lane[l];
-        p.relativeVelocity = q.relativeVelocity.lane[l];
-        for (std::size_t k = 0; k < 2; ++k) p.tangentImpulse[k] = q.tangentImpulse[k].lane[l];
-      }
-      if (c.rolling > 0 || c.spinning > 0) {
-        for (std::size_t k = 0; k < 2; ++k) c.rollingImpulse[k] = w.rollingImpulse[k].lane[l];
-        c.spinningImpulse = w.spinningImpulse.lane[l];
+void ContactBundles::store(std::vector<ContactConstraint>& cs, StepWorkers& workers) const {
+  // A lane's constraint is its own: the bundles write disjoint constraints.
+  forAll(workers, [&](std::uint32_t firstBundle, std::size_t count) {
+    for (std::size_t b = firstBundle; b < firstBundle + count; ++b) {
+      const WideConstraint& w = bundles_[b];
+      for (int l = 0; l < w.lanes; ++l) {
+        ContactConstraint& c = cs[w.source[std::size_t(l)]];
+        for (int i = 0; i < c.pointCount; ++i) {
+          ConstraintPoint& p = c.points[std::size_t(i)];
+          const WidePoint& q = w.points[std::size_t(i)];
+          p.normalImpulse = q.normalImpulse.lane[l];
+          p.maxNormalImpulse = q.maxNormalImpulse.lane[l];
+          p.relativeVelocity = q.relativeVelocity.lane[l];
+          for (std::size_t k = 0; k < 2; ++k) p.tangentImpulse[k] = q.tangentImpulse[k].lane[l];
+        }
+        if (c.rolling > 0 || c.spinning > 0) {
+          for (std::size_t k = 0; k < 2; ++k) c.rollingImpulse[k] = w.rollingImpulse[k].lane[l];
+          c.spinningImpulse = w.spinningImpulse.lane[l];
+        }
       }
     }
-  }
+  });
+}
+
+void ContactBundles::build(const std::vector<ContactConstraint>& cs,
+                           const std::vector<SolverBody>& bodies,
+                           const ConstraintColoring& coloring) {
+  StepWorkers::run(nullptr, [&](StepWorkers& w) { build(cs, bodies, coloring, w); });
+}
+
+void ContactBundles::updateMotion(const std::vector<SolverBody>& bodies) {
+  StepWorkers::run(nullptr, [&](StepWorkers& w) { updateMotion(bodies, w); });
+}
+
+void ContactBundles::warmStart(std::vector<SolverBody>& bodies, tbb::task_arena* arena) const {
+  StepWorkers::run(arena, [&](StepWorkers& w) { warmStart(bodies, w); });
+}
+
+void ContactBundles::solve(std::vector<SolverBody>& bodies, const BiasMode& mode,
+                           tbb::task_arena* arena) {
+  StepWorkers::run(arena, [&](StepWorkers& w) { solve(bodies, mode, w); });
+}
+
+void ContactBundles::updateApproach(const std::vector<SolverBody>& bodies) {
+  StepWorkers::run(nullptr, [&](StepWorkers& w) { updateApproach(bodies, w); });
+}
+
+void ContactBundles::applyRestitution(std::vector<SolverBody>& bodies, Real threshold,
+                                      tbb::task_arena* arena) {
+  StepWorkers::run(arena, [&](StepWorkers& w) { applyRestitution(bodies, threshold, w); });
+}
+
+void ContactBundles::store(std::vector<ContactConstraint>& cs) const {
+  StepWorkers::run(nullptr, [&](StepWorkers& w) { store(cs, w); });
 }
 
 namespace {
@@ -404,8 +452,6 @@ void applyRestitution(std::vector<ContactConstraint>& cs, std::vector<SolverBody
 
 namespace inertia {
 
-const char* contactSolverInstructionSet() {
-  return detail::simdLevelName(detail::contactSimd());
-}
+const char* contactSolverInstructionSet() { return detail::simdLevelName(detail::contactSimd()); }
 
 }  // namespace inertia

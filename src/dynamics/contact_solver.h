@@ -13,6 +13,8 @@
 // separation close.
 #pragma once
 
+#include <tbb/task_arena.h>
+
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -22,10 +24,9 @@
 #include <utility>
 #include <vector>
 
-#include <tbb/task_arena.h>
-
 #include "core/simd.h"
 #include "inertia/core/types.h"
+#include "step_workers.h"
 
 namespace inertia::detail {
 
@@ -35,9 +36,10 @@ struct SolverBody {
   Vec3 v = Vec3::Zero();   ///< Linear velocity of the centre of mass (m/s).
   Vec3 w = Vec3::Zero();   ///< Angular velocity (rad/s).
   Vec3 dp = Vec3::Zero();  ///< Displacement of the centre of mass since the step's start (m).
-  Mat3 dR = Mat3::Identity();  ///< dq as a matrix, refreshed whenever dq changes (cheaper to apply).
-  Quat dq = Quat::Identity();  ///< Rotation since the step's start.
-  Real invMass = 0;            ///< (1/kg); 0 for static and kinematic bodies.
+  Mat3 dR =
+      Mat3::Identity();  ///< dq as a matrix, refreshed whenever dq changes (cheaper to apply).
+  Quat dq = Quat::Identity();      ///< Rotation since the step's start.
+  Real invMass = 0;                ///< (1/kg); 0 for static and kinematic bodies.
   Mat3 invInertia = Mat3::Zero();  ///< World inverse inertia at the step's start (1/(kg m^2)).
 };
 
@@ -68,16 +70,16 @@ struct ContactConstraint {
   std::array<Vec3, 2> tangent{Vec3::UnitX(), Vec3::UnitZ()};
   std::array<ConstraintPoint, 4> points{};
   int pointCount = 0;
-  Real friction = 0;        ///< The coefficient in use this step (static while sticking).
+  Real friction = 0;  ///< The coefficient in use this step (static while sticking).
   Real restitution = 0;
-  Real rolling = 0;         ///< Lever arm (m).
-  Real spinning = 0;        ///< Lever arm (m).
+  Real rolling = 0;   ///< Lever arm (m).
+  Real spinning = 0;  ///< Lever arm (m).
   std::array<Real, 2> rollingMass{};
   std::array<Real, 2> rollingImpulse{};
   Real spinningMass = 0;
   Real spinningImpulse = 0;
   Softness softness{};
-  int contactIndex = 0;     ///< Which ContactInfo it came from.
+  int contactIndex = 0;  ///< Which ContactInfo it came from.
 };
 
 /// Tangent directions completing `n` to a right-handed orthonormal basis, a function of n alone
@@ -112,10 +114,10 @@ void colorConstraints(const std::vector<ContactConstraint>& cs,
 
 /// How a solve pass treats position error.
 struct BiasMode {
-  bool soft = true;        ///< Soft step rows (else rigid with Baumgarte).
-  bool useBias = true;     ///< false: relax pass, velocities only.
-  Real invH = 0;           ///< 1 / substep (1/s).
-  Real pushVelocity = 3;   ///< Largest push-out speed (m/s).
+  bool soft = true;       ///< Soft step rows (else rigid with Baumgarte).
+  bool useBias = true;    ///< false: relax pass, velocities only.
+  Real invH = 0;          ///< 1 / substep (1/s).
+  Real pushVelocity = 3;  ///< Largest push-out speed (m/s).
   Real baumgarte = Real(0.2);
   Real linearSlop = Real(0.005);
 };
@@ -148,19 +150,19 @@ struct WidePoint {
 struct WideConstraint {
   std::array<int, kLanes> bodyA{};  ///< Solver body, -1 for a static body or an empty lane.
   std::array<int, kLanes> bodyB{};
-  std::uint32_t writeA = 0;         ///< Bit l: lane l's body A takes impulses (moving).
+  std::uint32_t writeA = 0;  ///< Bit l: lane l's body A takes impulses (moving).
   std::uint32_t writeB = 0;
   std::array<std::uint32_t, kLanes> source{};  ///< The lanes' constraints (index into cs).
-  int lanes = 0;                    ///< Lanes in use, from lane 0.
-  int pointCount = 0;               ///< The most points of any lane.
-  bool angular = false;             ///< Some lane has rolling or spinning friction.
-  bool bouncy = false;              ///< Some lane has restitution.
+  int lanes = 0;                               ///< Lanes in use, from lane 0.
+  int pointCount = 0;                          ///< The most points of any lane.
+  bool angular = false;                        ///< Some lane has rolling or spinning friction.
+  bool bouncy = false;                         ///< Some lane has restitution.
   WideReal normal[3], tangent[2][3];
   WideReal invMassA, invMassB;
   WideReal friction, restitution, rolling, spinning;
   WideReal rollingMass[2], rollingImpulse[2], spinningMass, spinningImpulse;
   WideReal biasRate, massScale, impulseScale;
-  WideReal lanePoints;              ///< Each lane's own point count.
+  WideReal lanePoints;  ///< Each lane's own point count.
   // Images of the tangents and the normal under the inverse inertias, for the rolling and
   // spinning rows (only when `angular`).
   WideReal iaT[2][3], iaN[3], ibT[2][3], ibN[3];
@@ -210,37 +212,56 @@ struct WideInertia {
 class ContactBundles {
  public:
   /// Packs `cs` in the order of `coloring`, computes the rows' effective masses and angular
-  /// Jacobians (as computeMasses, lane by lane: `cs` need not have them), and takes the bodies' motion
-  /// since the step's start as updateMotion() does.
+  /// Jacobians (as computeMasses, lane by lane: `cs` need not have them), and takes the bodies'
+  /// motion since the step's start as updateMotion() does. The bundles are packed by the workers.
   void build(const std::vector<ContactConstraint>& cs, const std::vector<SolverBody>& bodies,
-             const ConstraintColoring& coloring);
+             const ConstraintColoring& coloring, StepWorkers& workers);
   /// Refreshes the points' separations from the bodies' dp and dR: after each position update.
   /// With the normal in the frames of A's and B's motion since the step's start, dRA^T n and
   /// dRB^T n, and n . (dpB - dpA), a point's separation is
   /// n . (dpB - dpA) + (dRB^T n) . rB - (dRA^T n) . rA + adjustedSeparation.
-  void updateMotion(const std::vector<SolverBody>& bodies);
+  void updateMotion(const std::vector<SolverBody>& bodies, StepWorkers& workers);
 
   /// Applies the accumulated impulses of every constraint to its bodies.
-  void warmStart(std::vector<SolverBody>& bodies, tbb::task_arena* arena) const;
+  void warmStart(std::vector<SolverBody>& bodies, StepWorkers& workers) const;
   /// One Gauss-Seidel pass over every constraint.
-  void solve(std::vector<SolverBody>& bodies, const BiasMode& mode, tbb::task_arena* arena);
+  void solve(std::vector<SolverBody>& bodies, const BiasMode& mode, StepWorkers& workers);
   /// Before a substep's iterations: points whose gap is still open take the current normal
   /// velocity as their approach speed, so restitution uses the speed at impact rather than at
   /// the step's start (which lags by up to g dt). Only constraints with restitution.
-  void updateApproach(const std::vector<SolverBody>& bodies);
+  void updateApproach(const std::vector<SolverBody>& bodies, StepWorkers& workers);
   /// Newton's impact law after the substeps: points that approached faster than `threshold`
   /// (m/s) and carried an impulse leave with restitution times their approach speed.
-  void applyRestitution(std::vector<SolverBody>& bodies, Real threshold,
-                        tbb::task_arena* arena);
-
+  void applyRestitution(std::vector<SolverBody>& bodies, Real threshold, StepWorkers& workers);
   /// Writes the impulses, approach speeds and largest impulses back into `cs`.
+  void store(std::vector<ContactConstraint>& cs, StepWorkers& workers) const;
+
+  // The same, each on its own workers of `arena` (in sequence without one): for tests and the
+  // LCP solvers' fallback.
+  void build(const std::vector<ContactConstraint>& cs, const std::vector<SolverBody>& bodies,
+             const ConstraintColoring& coloring);
+  void updateMotion(const std::vector<SolverBody>& bodies);
+  void warmStart(std::vector<SolverBody>& bodies, tbb::task_arena* arena) const;
+  void solve(std::vector<SolverBody>& bodies, const BiasMode& mode, tbb::task_arena* arena);
+  void updateApproach(const std::vector<SolverBody>& bodies);
+  void applyRestitution(std::vector<SolverBody>& bodies, Real threshold, tbb::task_arena* arena);
   void store(std::vector<ContactConstraint>& cs) const;
 
  private:
+  // Runs pass(first, count) over the bundles colour by colour (see the .cpp).
+  template <class Pass>
+  void forColors(StepWorkers& workers, Pass pass) const;
+  // Runs pass(first, count) over all bundles in blocks, for passes whose bundles are
+  // independent (they read the bodies but do not write them).
+  template <class Pass>
+  void forAll(StepWorkers& workers, Pass pass) const;
+
   std::vector<WideConstraint, DefaultInitAllocator<WideConstraint>> bundles_;
   std::vector<std::uint32_t> groupOffsets_;  ///< Colour g is bundles_[offsets[g], offsets[g + 1]).
   bool overflow_ = false;                    ///< The last group runs in sequence.
-  std::vector<std::uint32_t> members_;       ///< Scratch of build(): one colour's constraints.
+  // Scratch of build(): the constraints in bundle order, and each bundle's first member.
+  std::vector<std::uint32_t> members_;
+  std::vector<std::uint32_t> firstMember_;
 };
 
 /// The set the bundle kernels can use: AVX-512 or AVX2 when the processor has it, else SSE2

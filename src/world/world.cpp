@@ -5,8 +5,7 @@
 #include <cmath>
 #include <string>
 
-#include <tbb/task_arena.h>
-
+#include "core/thread_pool_impl.h"
 #include "inertia/core/error.h"
 
 namespace inertia {
@@ -23,16 +22,9 @@ void validate(const WorldSettings& s) {
   require(s.threads >= 0 && s.threads <= 1024, "WorldSettings::threads must be in 0..1024");
 }
 
-// The worker threads of a world: a TBB arena limited to the requested count, so that a world
-// never takes more cores than it was given and results can be checked across thread counts.
-struct World::Threads {
-  tbb::task_arena arena;
-  explicit Threads(int n) : arena(n > 0 ? n : tbb::task_arena::automatic) {}
-};
-
 World::World(const WorldSettings& settings) : settings_(settings) {
   validate(settings_);
-  threads_ = std::make_unique<Threads>(settings_.threads);
+  threads_ = std::make_unique<ThreadPool>(settings_.threads);
 }
 
 World::~World() = default;
@@ -57,7 +49,7 @@ void World::step(Real dt) {
   // body does.
   for (ParticleSlot& slot : particleSlots_)
     if (slot.system) followBodies(*slot.system);
-  bodies_.step(dt, dynamics, &threads_->arena);
+  bodies_.step(dt, dynamics, threads_.get());
   const auto t0 = Clock::now();
   bool obstaclesGathered = false;
   for (ParticleSlot& slot : particleSlots_) {
@@ -68,7 +60,7 @@ void World::step(Real dt) {
       obstaclesGathered = true;
       ps.setMovingObstacles(bodyObstacles_);
     }
-    ps.step(dt, &threads_->arena);
+    ps.step(dt, &threads_->impl().arena);
   }
   phases_.particles += std::chrono::duration<double>(Clock::now() - t0).count();
   time_ += double(dt);

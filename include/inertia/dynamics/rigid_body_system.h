@@ -9,18 +9,21 @@
 #include <string_view>
 #include <vector>
 
-#include <tbb/task_arena.h>
-
 #include "inertia/collision/collider.h"
 #include "inertia/collision/contact.h"
-#include "inertia/collision/dynamic_tree.h"
 #include "inertia/collision/queries.h"
+#include "inertia/core/thread_pool.h"
 #include "inertia/core/types.h"
+#include "inertia/geometry/bounds.h"
 #include "inertia/dynamics/body.h"
 #include "inertia/geometry/shapes.h"
 #include "inertia/ode/method.h"
 
 namespace inertia {
+
+namespace detail {
+struct RigidBodyData;
+}
 
 /// The contact solver (DESIGN.md section 4, `"solver": {"type": ...}`).
 /// - SoftStep: Catto's soft step (Box2D v3): substeps, soft contact constraints whose stiffness
@@ -132,8 +135,14 @@ struct DynamicsTimes {
   double integration = 0;
 };
 
+/// A node of the broad phase's tree, for debug drawing and statistics.
+struct BroadPhaseNode {
+  Aabb box;        ///< Its fat box (m): the leaves' hold a shape's bounds with a margin.
+  int height = 0;  ///< 0 for a leaf (a shape).
+};
+
 /// The rigid bodies. Deterministic: the same calls give the same bytes whatever the number of
-/// threads of the arena passed to step().
+/// threads of the pool passed to step().
 class RigidBodySystem {
  public:
   RigidBodySystem();
@@ -186,8 +195,9 @@ class RigidBodySystem {
   void applyAngularImpulse(BodyId id, const Vec3& impulse);  ///< (N m s)
   void wake(BodyId id);
 
-  /// Advances by `dt` seconds in settings.substeps substeps. Never throws for valid state.
-  void step(Real dt, const DynamicsSettings& settings, tbb::task_arena* arena);
+  /// Advances by `dt` seconds in settings.substeps substeps on the threads of `pool` (in
+  /// sequence when null). Never throws for valid state.
+  void step(Real dt, const DynamicsSettings& settings, ThreadPool* pool = nullptr);
 
   int bodyCount() const;
   /// Manifolds with at least one touching point (separation <= linear slop) after the last step.
@@ -202,9 +212,9 @@ class RigidBodySystem {
 
   /// Every manifold of the last step (touching or speculative), in a deterministic order.
   const std::vector<ContactInfo>& contacts() const;
-  /// The broad phase's dynamic tree over the shapes' fattened bounds (planes are kept apart
-  /// and are not in it), read-only: for debug drawing and statistics.
-  const DynamicTree& broadPhaseTree() const;
+  /// The nodes of the broad phase's dynamic tree over the shapes' fattened bounds (planes are
+  /// kept apart and are not in it): for debug drawing and statistics.
+  std::vector<BroadPhaseNode> broadPhaseNodes() const;
   const std::vector<ContactEvent>& beginEvents() const;
   const std::vector<ContactEvent>& endEvents() const;
 
@@ -219,8 +229,7 @@ class RigidBodySystem {
   const DynamicsTimes& times() const;
 
  private:
-  struct Data;
-  std::unique_ptr<Data> d_;
+  std::unique_ptr<detail::RigidBodyData> d_;
 };
 
 /// The instruction set the contact solver's kernels use on this processor: "AVX-512", "AVX2"

@@ -124,7 +124,6 @@ class World {
   void restoreState(const State& state);
 
  private:
-  struct Threads;
   void followBodies(ParticleSystem& ps);
   void gatherBodyObstacles();
   struct ParticleSlot {
@@ -132,7 +131,9 @@ class World {
     std::uint32_t generation = 1;
   };
   WorldSettings settings_;
-  std::unique_ptr<Threads> threads_;
+  // The world's threads: never more than settings.threads, so that results can be checked
+  // across thread counts.
+  std::unique_ptr<ThreadPool> threads_;
   std::vector<ParticleSlot> particleSlots_;
   RigidBodySystem bodies_;
   double time_ = 0;

@@ -1,0 +1,271 @@
+// Internal: the state of a RigidBodySystem, shared by the stages of its step (the contact
+// manager, the islands, the solver stages and the body motion, each in its own file).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "contact_solver.h"
+#include "inertia/collision/dynamic_tree.h"
+#include "inertia/core/error.h"
+#include "inertia/dynamics/rigid_body_system.h"
+#include "inertia/ode/step.h"
+
+namespace inertia::detail {
+
+// The angular momentum R I R^T w of a body with local inertia I turned by R, as three
+// matrix-vector products (no 3x3 product temporaries; GCC 12 at -O1 with the sanitizers also
+// warned, falsely, about those in Eigen).
+inline Vec3 worldMomentum(const Mat3& R, const Mat3& inertiaLocal, const Vec3& w) {
+  return R * (inertiaLocal * (R.transpose() * w));
+}
+
+// Below this tangential speed (m/s) a contact sticks and static friction applies.
+inline constexpr Real kStickSpeed = Real(0.01);
+
+struct BodyRecord {
+  std::uint32_t generation = 1;
+  bool alive = false;
+  BodyType type = BodyType::Dynamic;
+  Transform pose;  // of the origin
+  Vec3 localCom = Vec3::Zero();
+  Vec3 com = Vec3::Zero();  // world
+  Vec3 v = Vec3::Zero();
+  Vec3 w = Vec3::Zero();
+  Vec3 force = Vec3::Zero();
+  Vec3 torque = Vec3::Zero();
+  Real mass = 0;
+  Real invMass = 0;
+  Mat3 inertiaLocal = Mat3::Zero();
+  bool isotropic = false;  // inertiaLocal is exactly c * identity: no gyroscopic torque
+  Mat3 invInertiaLocal = Mat3::Zero();
+  Quat principalAxes = Quat::Identity();  // principal frame -> body frame
+  Vec3 principalMoments = Vec3::Ones();
+  Real linearDamping = 0;
+  Real angularDamping = 0;
+  Real gravityScale = 1;
+  Real maxLinearSpeed = 400;
+  Real maxAngularSpeed = 200;
+  Real massOverride = 0;
+  Vec3 inertiaOverride = Vec3::Zero();
+  bool allowSleep = true;
+  bool bullet = false;
+  bool fast = false;  // continuous this step (isBullet, set by the broad phase for the narrow)
+  bool awake = true;
+  bool wasFree = false;          // flew free last step: `momentum` is current
+  Vec3 momentum = Vec3::Zero();  // world angular momentum of a free body (kg m^2/s)
+  Real sleepTime = 0;
+  Real extent = 0;     // farthest shape point from the centre of mass (m)
+  Real minExtent = 1;  // smallest half size of a shape (m)
+  std::vector<std::uint32_t> shapes;
+  std::string name;
+
+  Mat3 invInertiaWorld() const {
+    const Mat3 R = pose.q.toRotationMatrix();
+    return R * invInertiaLocal * R.transpose();
+  }
+};
+
+struct ShapeRecord {
+  std::uint32_t generation = 1;
+  bool alive = false;
+  std::uint32_t body = 0;
+  Collider collider{Shape(Sphere{1})};
+  Transform local;
+  bool atOrigin = true;  // local is the identity
+  Material material;
+  int proxy = DynamicTree::kNull;  // none for planes
+  // A sphere about the shape's origin that holds the shape (m); infinite for a plane.
+  Real radius = std::numeric_limits<Real>::infinity();
+};
+
+// Per contact, what the public ContactInfo does not carry: the friction state for warm starts.
+struct ContactExtra {
+  // Zeroed here: `{}` leaves Eigen vectors uninitialised (a new contact warm-started pgs
+  // friction from garbage).
+  ContactExtra() {
+    tangentImpulse.fill(Vec3::Zero());
+    localA.fill(Vec3::Zero());
+    localB.fill(Vec3::Zero());
+  }
+  std::array<Vec3, 4> tangentImpulse;  // world vectors, reprojected on the new tangents
+  Vec3 angularImpulse = Vec3::Zero();  // rolling + spinning, world
+  Real approach = 0;                   // fastest normal approach at the step's start (m/s, >= 0)
+  bool touching = false;
+  // Manifold reuse: B's shape pose in A's shape frame when the manifold was computed, and the
+  // manifold in the shapes' frames (normal and points in A's, points on B in B's).
+  bool reusable = false;
+  Transform relative{};
+  Vec3 localNormal = Vec3::UnitY();
+  std::array<Vec3, 4> localA;
+  std::array<Vec3, 4> localB;
+  // The impulses are last step's already (a reused manifold, whose points are last step's):
+  // the warm start's matching by feature ids skips it.
+  bool carried = false;
+
+  /// Last step's record for its reused manifold: keeps the manifold reuse fields and the
+  /// impulses, and resets the rest as a new record has them.
+  ContactExtra& reuse() {
+    approach = 0;
+    touching = false;
+    carried = true;
+    return *this;
+  }
+};
+
+// What the narrow phase found for one chunk of pairs.
+struct NarrowChunk {
+  std::vector<ContactInfo> contacts;
+  std::vector<ContactExtra> extras;
+  std::vector<ContactManifold> manifolds;  // scratch for collide()
+};
+
+// Where a chunk of pairs appends its contacts: its own NarrowChunk when chunks run in parallel,
+// the step's lists when they run in sequence.
+struct NarrowOut {
+  std::vector<ContactInfo>& contacts;
+  std::vector<ContactExtra>& extras;
+  std::vector<ContactManifold>& manifolds;  // scratch for collide()
+};
+
+// Pairs of these shapes make at most one manifold, so it can be carried along as a whole.
+inline bool singleManifold(ShapeType t) {
+  return t != ShapeType::Mesh && t != ShapeType::HeightField && t != ShapeType::Compound;
+}
+
+inline std::uint64_t pairKey(std::uint32_t a, std::uint32_t b) {
+  return (std::uint64_t(a) << 32) | std::uint64_t(b);
+}
+
+inline auto contactKey(const ContactInfo& c) {
+  return std::make_tuple(c.shapeA.index, c.shapeB.index, c.manifold.subShapeA,
+                         c.manifold.subShapeB);
+}
+
+// How far a body may move in a step (m): translation plus rotation of its farthest point.
+inline Real motionBound(const BodyRecord& b, Real dt) {
+  return (b.v.norm() + b.w.norm() * b.extent) * dt;
+}
+
+inline bool isBullet(const BodyRecord& b, Real dt, const ContactTuning& tuning) {
+  if (b.type == BodyType::Static) return false;
+  return b.bullet || motionBound(b, dt) > tuning.bulletFraction * b.minExtent;
+}
+
+struct RigidBodyData {
+  std::vector<BodyRecord> bodies;
+  std::vector<ShapeRecord> shapes;
+  DynamicTree tree{DynamicTreeSettings{.margin = Real(0.05), .displacementMultiplier = 2}};
+  std::vector<std::uint32_t> planes;  // shape indices of planes (unbounded: not in the tree)
+  std::vector<ContactInfo> contacts;
+  std::vector<ContactExtra> extras;
+  std::vector<ContactEvent> beginEvents;
+  std::vector<ContactEvent> endEvents;
+  DynamicsTimes times;
+  int liveBodies = 0;
+
+  // Scratch, reused from step to step.
+  std::vector<int> moved;     // proxies of the awake bodies
+  std::vector<int> enlarged;  // those whose fat box changed this step
+  // The tree's candidate pairs (proxy ids, sorted), kept from step to step: a pair stays while
+  // the fat boxes overlap, and only proxies whose fat box changed are queried for new ones.
+  // Creating, destroying or teleporting proxies sets `pairsDirty`, and the next step queries
+  // every proxy of a non-static body again.
+  std::vector<std::pair<int, int>> treePairs;
+  std::vector<std::pair<int, int>> mergedPairs;
+  bool pairsDirty = true;
+  std::vector<std::pair<int, int>> proxyPairs;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> mergedShapePairs;  // scratch of the merge
+  // Per shape slot, refreshed at each step's start: what the pair filter and the narrow phase
+  // read of a shape and its body for every candidate pair, in a small record instead of the
+  // shape's and body's large ones (the pile's 45,000 pairs a step missed the cache on those).
+  struct ShapeFrame {
+    Transform pose;                // world pose of the shape
+    Material material;             // for the contacts' constraints
+    std::uint32_t generation = 0;  // the shape's
+    std::uint32_t body = 0;
+    std::uint32_t bodyGeneration = 0;
+    ShapeType type = ShapeType::Sphere;
+    BodyType bodyType = BodyType::Static;
+    bool awake = false;
+    bool fast = false;  // its body is continuous this step (BodyRecord::fast)
+    Real radius = std::numeric_limits<Real>::infinity();  // ShapeRecord::radius
+  };
+  std::vector<ShapeFrame> frames;
+  std::vector<ContactManifold> manifolds;  // collide()'s scratch when the chunks run in sequence
+  std::vector<ContactInfo> previous;
+  std::vector<ContactExtra> previousExtras;
+  std::vector<std::uint32_t> order;
+  std::vector<std::size_t> touchingNow, touchingBefore;  // scratch of the contact events
+  std::vector<ContactInfo> sortedContacts;               // scratch of the sort by key
+  std::vector<ContactExtra> sortedExtras;
+  std::vector<ContactConstraint> constraints;
+  std::vector<SolverBody> solverBodies;
+  std::vector<NarrowChunk> chunks;
+  detail::ConstraintColoring coloring;
+  detail::ContactBundles bundles;
+  std::vector<int> solverIndex;  // per body slot, -1 when not in the solver
+  std::vector<std::uint32_t> solverToBody;
+  std::vector<Quat> startRotation;  // per solver body
+  std::vector<Vec3> startCom;
+  // Per solver body, what a substep's velocity and position updates need from its record, so
+  // that the substeps read a small array instead of the bodies' large records.
+  struct SubstepMotion {
+    Vec3 dv = Vec3::Zero();  // h (gravity + force / m)
+    Vec3 dw = Vec3::Zero();  // h I^-1 torque
+    Real linearFactor = 1;   // 1 / (1 + h linear damping)
+    Real angularFactor = 1;
+    Real maxLinearSpeed = 0;
+    Real maxAngularSpeed = 0;
+    bool dynamic = false;
+    bool gyroscopic = false;  // not c * identity: the implicit gyroscopic step applies
+  };
+  std::vector<SubstepMotion> motion;
+  std::vector<std::uint32_t> island;  // union-find parents per body slot
+  std::vector<std::uint8_t> islandAwake;
+  std::vector<Real> islandSleep;
+  std::vector<ode::Workspace<Real>> workspaces;  // per body slot (Verlet keeps history)
+
+  BodyRecord& body(BodyId id) {
+    require(isValidBody(id), "RigidBodySystem: invalid body id (index " + std::to_string(id.index) +
+                                 ", generation " + std::to_string(id.generation) + ")");
+    return bodies[id.index];
+  }
+  ShapeRecord& shape(ShapeId id) {
+    require(isValidShape(id),
+            "RigidBodySystem: invalid shape id (index " + std::to_string(id.index) + ")");
+    return shapes[id.index];
+  }
+  bool isValidBody(BodyId id) const {
+    return !id.isNull() && id.index < bodies.size() && bodies[id.index].alive &&
+           bodies[id.index].generation == id.generation;
+  }
+  bool isValidShape(ShapeId id) const {
+    return !id.isNull() && id.index < shapes.size() && shapes[id.index].alive &&
+           shapes[id.index].generation == id.generation;
+  }
+  BodyId bodyId(std::uint32_t i) const { return {i, bodies[i].generation}; }
+  ShapeId shapeId(std::uint32_t i) const { return {i, shapes[i].generation}; }
+  // Most shapes sit at their body's origin: their pose is the body's, bit for bit, without
+  // composing (the narrow phase asks twice per pair).
+  Transform shapePose(const ShapeRecord& s) const {
+    return s.atOrigin ? bodies[s.body].pose : bodies[s.body].pose * s.local;
+  }
+
+  void updateMass(BodyRecord& b);
+  void refreshProxies(BodyRecord& b);
+  void dropContacts(std::uint32_t shape);
+  void wake(BodyRecord& b) {
+    if (b.type == BodyType::Static) return;
+    b.awake = true;
+    b.sleepTime = 0;
+  }
+};
+
+}  // namespace inertia::detail

@@ -1,0 +1,298 @@
+#include "solver_stages.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "inertia/core/math.h"
+#include "integrate.h"
+#include "lcp_contact.h"
+
+namespace inertia::detail {
+
+using Data = RigidBodyData;
+
+namespace {
+
+// The solver body of body slot `bi`, made on first use (-1 for a static body): the slots are
+// numbered in the order of the contacts, whatever the number of workers.
+int solverSlot(Data& D, std::uint32_t bi) {
+  if (D.bodies[bi].type == BodyType::Static) return -1;
+  if (D.solverIndex[bi] < 0) {
+    D.solverIndex[bi] = static_cast<int>(D.solverToBody.size());
+    D.solverToBody.push_back(bi);
+  }
+  return D.solverIndex[bi];
+}
+
+// The velocities, masses and start poses of the solver bodies.
+void prepareSolverBodies(Data& D, StepWorkers& workers) {
+  const std::size_t n = D.solverToBody.size();
+  D.solverBodies.resize(n);
+  D.startRotation.resize(n);
+  D.startCom.resize(n);
+  workers.parallelFor(n, [&](std::size_t first, std::size_t last) {
+    for (std::size_t k = first; k < last; ++k) {
+      const BodyRecord& b = D.bodies[D.solverToBody[k]];
+      SolverBody sb;
+      sb.v = b.v;
+      sb.w = b.w;
+      sb.invMass = b.invMass;
+      sb.invInertia = b.invInertiaWorld();
+      D.solverBodies[k] = sb;
+      D.startRotation[k] = b.pose.q;
+      D.startCom[k] = b.com;
+    }
+  });
+}
+
+// One contact's constraint: anchors, friction axes, materials and last step's impulses.
+void prepareContact(Data& D, const DynamicsSettings& s, ContactConstraint& c, const Softness& soft,
+                    const Softness& staticSoft) {
+  const std::size_t ci = static_cast<std::size_t>(c.contactIndex);
+  ContactInfo& info = D.contacts[ci];
+  const BodyRecord& ba = D.bodies[info.bodyA.index];
+  const BodyRecord& bb = D.bodies[info.bodyB.index];
+  const Material& ma = D.frames[info.shapeA.index].material;
+  const Material& mb = D.frames[info.shapeB.index].material;
+  const Real staticFriction = combine(s.combine.friction, ma.friction, mb.friction);
+  const Real slidingFriction = combine(s.combine.friction, ma.sliding(), mb.sliding());
+  c.restitution = combine(s.combine.restitution, ma.restitution, mb.restitution);
+  c.rolling = combine(s.combine.rollingFriction, ma.rollingFriction, mb.rollingFriction);
+  c.spinning = combine(s.combine.spinningFriction, ma.spinningFriction, mb.spinningFriction);
+  c.softness = (ba.invMass == 0 || bb.invMass == 0) ? staticSoft : soft;
+  c.normal = info.manifold.normal;
+  c.pointCount = info.manifold.pointCount;
+  // Friction axes: along the sliding direction when sliding (as Jolt does), so the disc
+  // clamp of the two rows' impulse opposes the sliding velocity even though the rows'
+  // effective masses differ; otherwise a basis of the normal alone.
+  // The anchors and the points' relative velocities first: the slip direction needs them all.
+  std::array<Vec3, 4> dvs;
+  Vec3 slip = Vec3::Zero();
+  for (int k = 0; k < c.pointCount; ++k) {
+    const ContactPoint& cp = info.manifold.points[static_cast<std::size_t>(k)];
+    ConstraintPoint& p = c.points[static_cast<std::size_t>(k)];
+    const Vec3 mid = Real(0.5) * (cp.pointA + cp.pointB);
+    p.rA = mid - ba.com;
+    p.rB = mid - bb.com;
+    dvs[std::size_t(k)] = bb.v + bb.w.cross(p.rB) - ba.v - ba.w.cross(p.rA);
+    slip += dvs[std::size_t(k)];
+  }
+  slip -= slip.dot(c.normal) * c.normal;
+  const Real slipNorm = slip.norm() / Real(c.pointCount);
+  if (slipNorm > kStickSpeed) {
+    c.tangent[0] = slip.normalized();
+    c.tangent[1] = c.normal.cross(c.tangent[0]);
+  } else {
+    c.tangent = tangentBasis(c.normal);
+  }
+  const ContactExtra& extra = D.extras[ci];
+  Real tangentialSpeed2 = 0;  // the largest, squared
+  for (int k = 0; k < c.pointCount; ++k) {
+    const ContactPoint& cp = info.manifold.points[static_cast<std::size_t>(k)];
+    ConstraintPoint& p = c.points[static_cast<std::size_t>(k)];
+    p.adjustedSeparation = cp.separation - (p.rB - p.rA).dot(c.normal);
+    p.normalImpulse = info.normalImpulses[static_cast<std::size_t>(k)];
+    for (int t = 0; t < 2; ++t)
+      p.tangentImpulse[t] = extra.tangentImpulse[static_cast<std::size_t>(k)].dot(c.tangent[t]);
+    const Vec3& dv = dvs[std::size_t(k)];
+    p.relativeVelocity = dv.dot(c.normal);
+    tangentialSpeed2 =
+        std::max(tangentialSpeed2, (dv - p.relativeVelocity * c.normal).squaredNorm());
+  }
+  c.friction = tangentialSpeed2 < kStickSpeed * kStickSpeed ? staticFriction : slidingFriction;
+  for (int t = 0; t < 2; ++t) c.rollingImpulse[t] = extra.angularImpulse.dot(c.tangent[t]);
+  c.spinningImpulse = extra.angularImpulse.dot(c.normal);
+}
+
+// What a substep's velocity and position updates need of each solver body's record.
+void prepareMotion(Data& D, const DynamicsSettings& s, Real h, StepWorkers& workers) {
+  D.motion.resize(D.solverBodies.size());
+  workers.parallelFor(D.solverBodies.size(), [&](std::size_t first, std::size_t last) {
+    for (std::size_t k = first; k < last; ++k) {
+      const BodyRecord& b = D.bodies[D.solverToBody[k]];
+      Data::SubstepMotion& m = D.motion[k];
+      m.dynamic = b.type == BodyType::Dynamic;
+      m.dv = h * (b.gravityScale * s.gravity + b.invMass * b.force);
+      m.dw = h * (D.solverBodies[k].invInertia * b.torque);
+      m.linearFactor = 1 / (1 + h * b.linearDamping);
+      m.angularFactor = 1 / (1 + h * b.angularDamping);
+      m.maxLinearSpeed = b.maxLinearSpeed;
+      m.maxAngularSpeed = b.maxAngularSpeed;
+      // w x (I w) vanishes for a sphere's or a cube's inertia (c * identity); the implicit
+      // step would only add its rounding.
+      m.gyroscopic = !b.isotropic;
+    }
+  });
+}
+
+// Velocities of the constrained bodies: gravity, forces, damping, implicit gyroscopic term.
+void integrateVelocities(Data& D, Real h, StepWorkers& workers) {
+  workers.parallelFor(D.solverBodies.size(), [&](std::size_t first, std::size_t last) {
+    for (std::size_t k = first; k < last; ++k) {
+      const Data::SubstepMotion& m = D.motion[k];
+      SolverBody& sb = D.solverBodies[k];
+      if (!m.dynamic) continue;
+      sb.v += m.dv;
+      sb.v *= m.linearFactor;
+      sb.w += m.dw;
+      if (m.gyroscopic) {
+        const Quat q = (sb.dq * D.startRotation[k]).normalized();
+        sb.w = implicitGyroscopic(q, D.bodies[D.solverToBody[k]].inertiaLocal, sb.w, h);
+      }
+      sb.w *= m.angularFactor;
+    }
+  });
+}
+
+// The bodies' motion since the step's start, after the speed caps.
+void integratePositions(Data& D, Real h, StepWorkers& workers) {
+  workers.parallelFor(D.solverBodies.size(), [&](std::size_t first, std::size_t last) {
+    for (std::size_t k = first; k < last; ++k) {
+      const Data::SubstepMotion& m = D.motion[k];
+      SolverBody& sb = D.solverBodies[k];
+      const Real vn = sb.v.norm();
+      if (vn > m.maxLinearSpeed) sb.v *= m.maxLinearSpeed / vn;
+      const Real wn = sb.w.norm();
+      if (wn > m.maxAngularSpeed) sb.w *= m.maxAngularSpeed / wn;
+      sb.dp += h * sb.v;
+      sb.dq = integrateRotation(sb.dq, sb.w, h);
+      sb.dR = sb.dq.toRotationMatrix();
+    }
+  });
+}
+
+void warmStart(Data& D, StepWorkers& workers) {
+  D.bundles.updateApproach(D.solverBodies, workers);
+  D.bundles.warmStart(D.solverBodies, workers);
+}
+
+void solve(Data& D, const BiasMode& mode, int iterations, StepWorkers& workers) {
+  for (int it = 0; it < iterations; ++it) D.bundles.solve(D.solverBodies, mode, workers);
+}
+
+void relax(Data& D, const BiasMode& relaxMode, int iterations, StepWorkers& workers) {
+  for (int it = 0; it < iterations; ++it) D.bundles.solve(D.solverBodies, relaxMode, workers);
+}
+
+// The impulses into the contacts, for the next step's warm start and for the user.
+void storeImpulses(Data& D, StepWorkers& workers) {
+  workers.parallelFor(D.constraints.size(), [&](std::size_t first, std::size_t last) {
+    for (std::size_t ci = first; ci < last; ++ci) {
+      const ContactConstraint& c = D.constraints[ci];
+      ContactInfo& info = D.contacts[static_cast<std::size_t>(c.contactIndex)];
+      ContactExtra& extra = D.extras[static_cast<std::size_t>(c.contactIndex)];
+      // A contact that pushed during the step touched, even if it began speculative; its
+      // approach speed is the one measured just before the impact (updateApproach).
+      extra.approach = 0;
+      for (int k = 0; k < c.pointCount; ++k) {
+        const ConstraintPoint& p = c.points[static_cast<std::size_t>(k)];
+        if (p.maxNormalImpulse > 0) extra.touching = true;
+        extra.approach = std::max(extra.approach, -p.relativeVelocity);
+        info.normalImpulses[static_cast<std::size_t>(k)] = p.normalImpulse;
+        extra.tangentImpulse[static_cast<std::size_t>(k)] =
+            p.tangentImpulse[0] * c.tangent[0] + p.tangentImpulse[1] * c.tangent[1];
+      }
+      extra.angularImpulse = c.rollingImpulse[0] * c.tangent[0] +
+                             c.rollingImpulse[1] * c.tangent[1] + c.spinningImpulse * c.normal;
+    }
+  });
+}
+
+bool isLcp(const DynamicsSettings& s) {
+  return s.solver.type == SolverType::LcpDantzig || s.solver.type == SolverType::LcpLemke;
+}
+
+}  // namespace
+
+void prepareContacts(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& workers) {
+  const ContactTuning& tuning = s.contact;
+  D.solverIndex.assign(D.bodies.size(), -1);
+  D.solverToBody.clear();
+  // The constraints and their solver bodies in contact order, in sequence (cheap); the rest
+  // of each constraint in parallel.
+  D.constraints.clear();
+  for (std::size_t ci = 0; ci < D.contacts.size(); ++ci) {
+    const ContactInfo& info = D.contacts[ci];
+    const BodyRecord& ba = D.bodies[info.bodyA.index];
+    const BodyRecord& bb = D.bodies[info.bodyB.index];
+    const bool aActive = ba.type == BodyType::Dynamic && ba.awake;
+    const bool bActive = bb.type == BodyType::Dynamic && bb.awake;
+    if (!aActive && !bActive) continue;
+    ContactConstraint& c = D.constraints.emplace_back();
+    c.contactIndex = static_cast<int>(ci);
+    c.bodyA = solverSlot(D, info.bodyA.index);
+    c.bodyB = solverSlot(D, info.bodyB.index);
+  }
+  prepareSolverBodies(D, workers);
+  const Real h = dt / Real(s.substeps);
+  const Real hertz = std::min(tuning.hertz, Real(0.25) / h);
+  const Softness soft = makeSoft(hertz, tuning.dampingRatio, h);
+  const Softness staticSoft = makeSoft(2 * hertz, tuning.dampingRatio, h);
+  workers.parallelFor(
+      D.constraints.size(),
+      [&](std::size_t first, std::size_t last) {
+        for (std::size_t k = first; k < last; ++k)
+          prepareContact(D, s, D.constraints[k], soft, staticSoft);
+      },
+      32);
+  if (isLcp(s)) {
+    for (ContactConstraint& c : D.constraints) {
+      const SolverBody none{};
+      const SolverBody& a = c.bodyA >= 0 ? D.solverBodies[static_cast<std::size_t>(c.bodyA)] : none;
+      const SolverBody& b = c.bodyB >= 0 ? D.solverBodies[static_cast<std::size_t>(c.bodyB)] : none;
+      computeMasses(c, a, b);
+    }
+  } else {
+    // The bundles compute the masses themselves, a bundle of constraints at a time.
+    colorConstraints(D.constraints, D.solverBodies, D.coloring);
+    D.bundles.build(D.constraints, D.solverBodies, D.coloring, workers);
+  }
+  prepareMotion(D, s, h, workers);
+}
+
+double solveSubsteps(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& workers) {
+  using Clock = std::chrono::steady_clock;
+  const ContactTuning& tuning = s.contact;
+  const Real h = dt / Real(s.substeps);
+  const bool lcp = isLcp(s);
+  const bool softStep = s.solver.type == SolverType::SoftStep;
+  const LcpMethod lcpMethod =
+      s.solver.type == SolverType::LcpLemke ? LcpMethod::Lemke : LcpMethod::Dantzig;
+  BiasMode mode;
+  mode.soft = softStep;
+  mode.invH = 1 / h;
+  mode.pushVelocity = tuning.pushVelocity;
+  mode.baumgarte = tuning.baumgarte;
+  mode.linearSlop = tuning.linearSlop;
+  BiasMode relaxMode = mode;
+  relaxMode.useBias = false;
+  double integrationTime = 0;
+  for (int sub = 0; sub < s.substeps; ++sub) {
+    auto ti = Clock::now();
+    integrateVelocities(D, h, workers);
+    integrationTime += std::chrono::duration<double>(Clock::now() - ti).count();
+    if (lcp) {
+      // Direct LCP per island in place of the warm start and iterations (lcp_contact.h).
+      updateApproach(D.constraints, D.solverBodies);
+      solveContactsLcp(D.constraints, D.solverBodies, mode, lcpMethod, s.solver.iterations);
+    } else {
+      warmStart(D, workers);
+      solve(D, mode, s.solver.iterations, workers);
+    }
+    ti = Clock::now();
+    integratePositions(D, h, workers);
+    integrationTime += std::chrono::duration<double>(Clock::now() - ti).count();
+    if (!lcp) D.bundles.updateMotion(D.solverBodies, workers);
+    if (softStep) relax(D, relaxMode, s.solver.relaxIterations, workers);
+  }
+  if (lcp) {
+    applyRestitution(D.constraints, D.solverBodies, tuning.restitutionThreshold);
+  } else {
+    D.bundles.applyRestitution(D.solverBodies, tuning.restitutionThreshold, workers);
+    D.bundles.store(D.constraints, workers);
+  }
+  storeImpulses(D, workers);
+  return integrationTime;
+}
+
+}  // namespace inertia::detail

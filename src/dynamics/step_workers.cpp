@@ -1,0 +1,100 @@
+#include "step_workers.h"
+
+#include <tbb/task_group.h>
+
+#include <exception>
+#include <thread>
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#endif
+
+namespace inertia::detail {
+
+namespace {
+
+// Spins a while, then gives the core away between polls: helpers wait through the main
+// worker's serial stages, and a machine with more busy threads than cores must not starve.
+void backoff(int& spins) {
+  if (spins < 256) {
+#if defined(__x86_64__) || defined(__i386__)
+    _mm_pause();
+#endif
+    ++spins;
+  } else {
+    std::this_thread::yield();
+  }
+}
+
+}  // namespace
+
+void StepWorkers::start(tbb::task_arena* arena, DriverFn driver, void* ctx) {
+  const int n = arena ? arena->max_concurrency() : 1;
+  if (n <= 1) {
+    driver(ctx, *this);
+    return;
+  }
+  threads_ = n;
+  arena->execute([&] {
+    tbb::task_group group;
+    for (int i = 1; i < n; ++i) group.run([this] { helperLoop(); });
+    std::exception_ptr error;
+    try {
+      driver(ctx, *this);
+    } catch (...) {
+      error = std::current_exception();
+    }
+    claim_.store(std::uint64_t(kExit) << 32, std::memory_order_release);
+    group.wait();
+    if (error) std::rethrow_exception(error);
+  });
+}
+
+void StepWorkers::post(BlockFn fn, void* ctx, std::uint32_t blocks) {
+  // Close the last stage first (no block left to claim under its epoch), so that a helper
+  // which reads part of this stage's description under the old epoch claims nothing: it reads
+  // the description with acquire, which orders this store before its next look at claim_.
+  claim_.store((std::uint64_t(epoch_) << 32) | kClosed, std::memory_order_relaxed);
+  fn_.store(fn, std::memory_order_release);
+  ctx_.store(ctx, std::memory_order_release);
+  blocks_.store(blocks, std::memory_order_release);
+  done_.store(0, std::memory_order_relaxed);
+  const std::uint32_t epoch = ++epoch_;
+  claim_.store(std::uint64_t(epoch) << 32, std::memory_order_release);
+  runBlocks(epoch);
+  int spins = 0;
+  while (done_.load(std::memory_order_acquire) != blocks) backoff(spins);
+}
+
+void StepWorkers::helperLoop() {
+  std::uint32_t seen = 0;
+  for (;;) {
+    std::uint32_t epoch = 0;
+    int spins = 0;
+    while ((epoch = std::uint32_t(claim_.load(std::memory_order_acquire) >> 32)) == seen)
+      backoff(spins);
+    if (epoch == kExit) return;
+    seen = epoch;
+    runBlocks(epoch);
+  }
+}
+
+void StepWorkers::runBlocks(std::uint32_t epoch) {
+  // The stage's description, read after the epoch was seen. If the main worker has moved on
+  // to a later stage meanwhile, the claim below sees a different epoch and runs nothing.
+  const BlockFn fn = fn_.load(std::memory_order_acquire);
+  void* const ctx = ctx_.load(std::memory_order_acquire);
+  const std::uint32_t blocks = blocks_.load(std::memory_order_acquire);
+  std::uint64_t word = claim_.load(std::memory_order_acquire);
+  for (;;) {
+    if (std::uint32_t(word >> 32) != epoch || std::uint32_t(word) >= blocks) return;
+    if (claim_.compare_exchange_weak(word, word + 1, std::memory_order_acq_rel,
+                                     std::memory_order_acquire)) {
+      fn(ctx, std::uint32_t(word));
+      done_.fetch_add(1, std::memory_order_release);
+      ++word;  // the expected word of the next claim; a failed exchange corrects it
+    }
+  }
+}
+
+}  // namespace inertia::detail
