@@ -10,41 +10,86 @@
 namespace inertia::detail {
 
 using Data = RigidBodyData;
+using ShapePair = Data::ShapePair;
 
-void updateBroadPhase(RigidBodyData& D, Real dt, const ContactTuning& tuning) {
-  const std::uint32_t bodyCount = static_cast<std::uint32_t>(D.bodies.size());
-  // 1. Broad phase.
+namespace {
+
+// Appends to `out`, in index order, what emit(i, out) appends for each i in [0, n): in fixed
+// chunks on the workers, each into its own buffer of `chunks`, joined in chunk order, so the
+// result does not depend on the number of workers. In sequence, straight into `out`.
+template <class T, class Emit>
+void gatherInOrder(StepWorkers& workers, std::size_t n, std::vector<std::vector<T>>& chunks,
+                   std::vector<T>& out, Emit emit) {
+  out.clear();
+  if (workers.threadCount() == 1) {
+    for (std::size_t i = 0; i < n; ++i) emit(i, out);
+    return;
+  }
+  constexpr std::size_t kChunk = 512;
+  const std::size_t count = (n + kChunk - 1) / kChunk;
+  if (chunks.size() < count) chunks.resize(count);
+  workers.parallelFor(count, 1, [&](std::size_t first, std::size_t last) {
+    for (std::size_t c = first; c < last; ++c) {
+      chunks[c].clear();
+      for (std::size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) emit(i, chunks[c]);
+    }
+  });
+  for (std::size_t c = 0; c < count; ++c) out.insert(out.end(), chunks[c].begin(), chunks[c].end());
+}
+
+// Per body, in parallel: the shapes' frames for the narrow phase, whether the body is
+// continuous this step, and the new bounds of the proxies of awake bodies (swept over the
+// step for a fast body, so that it meets what lies in its path).
+void refreshFrames(Data& D, Real dt, const ContactTuning& tuning, StepWorkers& workers) {
+  D.frames.resize(D.shapes.size());
+  D.proxyBoxes.resize(D.shapes.size());
+  workers.parallelFor(
+      D.bodies.size(),
+      [&](std::size_t first, std::size_t last) {
+        for (std::uint32_t bi = std::uint32_t(first); bi < last; ++bi) {
+          BodyRecord& b = D.bodies[bi];
+          if (!b.alive) continue;
+          b.fast = isBullet(b, dt, tuning);
+          for (std::uint32_t si : b.shapes)
+            D.frames[si] = {D.shapePose(D.shapes[si]),
+                            D.shapes[si].material,
+                            D.shapes[si].generation,
+                            bi,
+                            b.generation,
+                            D.shapes[si].collider.type(),
+                            b.type,
+                            b.awake,
+                            b.fast,
+                            D.shapes[si].radius};
+          if (b.type == BodyType::Static || !b.awake) continue;
+          const Vec3 displacement = b.v * dt;
+          for (std::uint32_t si : b.shapes) {
+            const ShapeRecord& sh = D.shapes[si];
+            if (sh.proxy == DynamicTree::kNull) continue;
+            Aabb box = worldBounds(sh.collider.shape(), D.frames[si].pose);
+            if (b.fast) {
+              const Real spin = b.w.norm() * b.extent * dt;
+              box = box.merged({box.lower + displacement, box.upper + displacement}).inflated(spin);
+            }
+            D.proxyBoxes[si] = box.inflated(tuning.speculativeDistance);
+          }
+        }
+      },
+      32);
+}
+
+// In sequence (the tree changes): the proxies of awake bodies take their new bounds; those
+// that left their fat box are reinserted and queried for new pairs.
+void moveProxies(Data& D, Real dt) {
   D.moved.clear();
   D.enlarged.clear();
-  D.frames.resize(D.shapes.size());
-  for (std::uint32_t bi = 0; bi < bodyCount; ++bi) {
-    BodyRecord& b = D.bodies[bi];
-    if (!b.alive) continue;
-    b.fast = isBullet(b, dt, tuning);
-    for (std::uint32_t si : b.shapes)
-      D.frames[si] = {D.shapePose(D.shapes[si]),
-                      D.shapes[si].material,
-                      D.shapes[si].generation,
-                      bi,
-                      b.generation,
-                      D.shapes[si].collider.type(),
-                      b.type,
-                      b.awake,
-                      b.fast,
-                      D.shapes[si].radius};
-    if (b.type == BodyType::Static || !b.awake) continue;
-    const bool bullet = b.fast;
+  for (BodyRecord& b : D.bodies) {
+    if (!b.alive || b.type == BodyType::Static || !b.awake) continue;
     const Vec3 displacement = b.v * dt;
     for (std::uint32_t si : b.shapes) {
-      ShapeRecord& sh = D.shapes[si];
+      const ShapeRecord& sh = D.shapes[si];
       if (sh.proxy == DynamicTree::kNull) continue;
-      Aabb box = worldBounds(sh.collider.shape(), D.frames[si].pose);
-      if (bullet) {
-        // Swept over the step, so a fast body meets what lies in its path.
-        const Real spin = b.w.norm() * b.extent * dt;
-        box = box.merged({box.lower + displacement, box.upper + displacement}).inflated(spin);
-      }
-      if (D.tree.moveProxy(sh.proxy, box.inflated(tuning.speculativeDistance), displacement))
+      if (D.tree.moveProxy(sh.proxy, D.proxyBoxes[si], displacement))
         D.enlarged.push_back(sh.proxy);
       D.moved.push_back(sh.proxy);
     }
@@ -57,39 +102,106 @@ void updateBroadPhase(RigidBodyData& D, Real dt, const ContactTuning& tuning) {
         D.enlarged.push_back(sh.proxy);
     D.pairsDirty = false;
   }
-  D.tree.computePairs(D.enlarged, D.proxyPairs);
-  // Last step's pairs whose fat boxes still overlap, joined with the new candidates.
-  std::erase_if(D.treePairs, [&](const std::pair<int, int>& pq) {
-    return !D.tree.fatAabb(pq.first).overlaps(D.tree.fatAabb(pq.second));
+}
+
+// The tree's pairs of the enlarged proxies, sorted and each once (DynamicTree::computePairs,
+// with the queries on the workers).
+void queryNewPairs(Data& D, StepWorkers& workers) {
+  gatherInOrder(workers, D.enlarged.size(), D.pairChunks, D.proxyPairs,
+                [&](std::size_t i, std::vector<std::pair<int, int>>& out) {
+                  const int id = D.enlarged[i];
+                  D.tree.query(D.tree.fatAabb(id), [&](int other) {
+                    if (other != id) out.emplace_back(std::min(id, other), std::max(id, other));
+                  });
+                });
+  // Pairs of two enlarged proxies were found twice; sorting also makes the order independent
+  // of the tree's shape.
+  std::sort(D.proxyPairs.begin(), D.proxyPairs.end());
+  D.proxyPairs.erase(std::unique(D.proxyPairs.begin(), D.proxyPairs.end()), D.proxyPairs.end());
+}
+
+// Warm start: each point takes last step's impulses by (shapes, sub-shapes, feature id), in
+// one walk through both sorted lists per block of contacts, from the block's first key on.
+void matchWarmStart(Data& D, const ContactTuning& tuning, StepWorkers& workers) {
+  workers.parallelFor(D.contacts.size(), [&](std::size_t first, std::size_t last) {
+    auto previous =
+        std::lower_bound(D.previous.begin(), D.previous.end(), contactKey(D.contacts[first]),
+                         [](const ContactInfo& p, const auto& k) { return contactKey(p) < k; });
+    for (std::size_t i = first; i < last; ++i) {
+      ContactInfo& c = D.contacts[i];
+      ContactExtra& e = D.extras[i];
+      e.touching = false;
+      for (int k = 0; k < c.manifold.pointCount; ++k)
+        e.touching = e.touching || c.manifold.points[k].separation <= tuning.linearSlop;
+      if (std::exchange(e.carried, false)) continue;
+      const auto key = contactKey(c);
+      while (previous != D.previous.end() && contactKey(*previous) < key) ++previous;
+      const auto it = previous;
+      if (it == D.previous.end() || contactKey(*it) != key || it->bodyA != c.bodyA) continue;
+      const ContactExtra& pe = D.previousExtras[static_cast<std::size_t>(it - D.previous.begin())];
+      bool carried = false;
+      for (int k = 0; k < c.manifold.pointCount; ++k) {
+        for (int j = 0; j < it->manifold.pointCount; ++j) {
+          if (it->manifold.points[j].id != c.manifold.points[k].id) continue;
+          c.normalImpulses[k] = it->normalImpulses[j];
+          e.tangentImpulse[k] = pe.tangentImpulse[j];
+          carried = true;
+        }
+      }
+      if (carried) e.angularImpulse = pe.angularImpulse;
+    }
   });
-  D.mergedPairs.clear();
-  std::set_union(D.treePairs.begin(), D.treePairs.end(), D.proxyPairs.begin(), D.proxyPairs.end(),
-                 std::back_inserter(D.mergedPairs));
-  std::swap(D.treePairs, D.mergedPairs);
-  D.pairs.clear();
-  auto addPair = [&](std::uint32_t a, std::uint32_t b) {
+}
+
+}  // namespace
+
+void updateBroadPhase(RigidBodyData& D, Real dt, const ContactTuning& tuning,
+                      StepWorkers& workers) {
+  refreshFrames(D, dt, tuning, workers);
+  moveProxies(D, dt);
+  queryNewPairs(D, workers);
+  // Last step's pairs whose fat boxes still overlap, joined with the new candidates.
+  gatherInOrder(workers, D.treePairs.size(), D.pairChunks, D.mergedPairs,
+                [&](std::size_t i, std::vector<std::pair<int, int>>& out) {
+                  const auto [p, q] = D.treePairs[i];
+                  if (D.tree.fatAabb(p).overlaps(D.tree.fatAabb(q))) out.emplace_back(p, q);
+                });
+  D.treePairs.clear();
+  std::set_union(D.mergedPairs.begin(), D.mergedPairs.end(), D.proxyPairs.begin(),
+                 D.proxyPairs.end(), std::back_inserter(D.treePairs));
+  // The pairs the narrow phase needs: of two bodies, one of them dynamic, one of them awake.
+  auto addPair = [&](std::uint32_t a, std::uint32_t b, std::vector<ShapePair>& out) {
     if (a > b) std::swap(a, b);
     const Data::ShapeFrame& fa = D.frames[a];
     const Data::ShapeFrame& fb = D.frames[b];
     if (fa.body == fb.body) return;
     if (fa.bodyType != BodyType::Dynamic && fb.bodyType != BodyType::Dynamic) return;
     if (!fa.awake && !fb.awake) return;
-    D.pairs.emplace_back(a, b);
+    out.emplace_back(a, b);
   };
-  for (const auto& [p, q] : D.treePairs) addPair(D.tree.userData(p), D.tree.userData(q));
+  gatherInOrder(workers, D.treePairs.size(), D.shapePairChunks, D.pairs,
+                [&](std::size_t i, std::vector<ShapePair>& out) {
+                  const auto [p, q] = D.treePairs[i];
+                  addPair(D.tree.userData(p), D.tree.userData(q), out);
+                });
   const std::size_t treeCount = D.pairs.size();
-  for (std::uint32_t plane : D.planes) {
-    const Plane& pl = *D.shapes[plane].collider.shape().getIf<Plane>();
-    const Transform& planePose = D.frames[plane].pose;
-    const Vec3 n = planePose.rotate(pl.normal);
-    const Real offset = pl.offset + n.dot(planePose.p);
-    for (int proxy : D.moved) {
-      const Aabb& fat = D.tree.fatAabb(proxy);
-      const Vec3 c = Real(0.5) * (fat.lower + fat.upper);
-      const Vec3 e = Real(0.5) * (fat.upper - fat.lower);
-      if (n.dot(c) - offset - n.cwiseAbs().dot(e) <= 0) addPair(plane, D.tree.userData(proxy));
-    }
-  }
+  // The planes (unbounded, not in the tree) against every moved proxy.
+  const std::size_t moved = D.moved.size();
+  gatherInOrder(workers, D.planes.size() * moved, D.shapePairChunks, D.planePairs,
+                [&](std::size_t i, std::vector<ShapePair>& out) {
+                  const std::uint32_t plane = D.planes[i / moved];
+                  const int proxy = D.moved[i % moved];
+                  const Plane& pl = *D.shapes[plane].collider.shape().getIf<Plane>();
+                  const Transform& planePose = D.frames[plane].pose;
+                  const Vec3 n = planePose.rotate(pl.normal);
+                  const Real offset = pl.offset + n.dot(planePose.p);
+                  const Aabb& fat = D.tree.fatAabb(proxy);
+                  const Vec3 c = Real(0.5) * (fat.lower + fat.upper);
+                  const Vec3 e = Real(0.5) * (fat.upper - fat.lower);
+                  if (n.dot(c) - offset - n.cwiseAbs().dot(e) <= 0)
+                    addPair(plane, D.tree.userData(proxy), out);
+                });
+  D.pairs.insert(D.pairs.end(), D.planePairs.begin(), D.planePairs.end());
   // Sorted by shape index. The tree's pairs come sorted by proxy id, which follows the shape
   // order unless proxies were recycled: usually only the plane pairs need sorting, and a
   // merge. (Sorting the whole list every step cost 12% of the pile scene.)
@@ -105,7 +217,6 @@ void updateBroadPhase(RigidBodyData& D, Real dt, const ContactTuning& tuning) {
 }
 
 void updateContacts(RigidBodyData& D, Real dt, const ContactTuning& tuning, StepWorkers& workers) {
-  // 2. Narrow phase.
   const bool reuse = tuning.reuseDistance > 0 && tuning.reuseAngle > 0;
   const Real reuseDistance2 = tuning.reuseDistance * tuning.reuseDistance;
   const Real reuseCosine = std::cos(Real(0.5) * tuning.reuseAngle);  // |q . q'| = cos(angle / 2)
@@ -234,10 +345,21 @@ void updateContacts(RigidBodyData& D, Real dt, const ContactTuning& tuning, Step
         collideChunk(c, {chunk.contacts, chunk.extras, chunk.manifolds});
       }
     });
-    for (std::size_t c = 0; c < chunkCount; ++c) {
-      D.contacts.insert(D.contacts.end(), D.chunks[c].contacts.begin(), D.chunks[c].contacts.end());
-      D.extras.insert(D.extras.end(), D.chunks[c].extras.begin(), D.chunks[c].extras.end());
-    }
+    // Joined in chunk order: each chunk copies into its place.
+    D.chunkOffsets.resize(chunkCount + 1);
+    D.chunkOffsets[0] = 0;
+    for (std::size_t c = 0; c < chunkCount; ++c)
+      D.chunkOffsets[c + 1] = D.chunkOffsets[c] + D.chunks[c].contacts.size();
+    D.contacts.resize(D.chunkOffsets[chunkCount]);
+    D.extras.resize(D.chunkOffsets[chunkCount]);
+    workers.parallelFor(chunkCount, 4, [&](std::size_t first, std::size_t last) {
+      for (std::size_t c = first; c < last; ++c) {
+        const auto at = std::ptrdiff_t(D.chunkOffsets[c]);
+        std::copy(D.chunks[c].contacts.begin(), D.chunks[c].contacts.end(),
+                  D.contacts.begin() + at);
+        std::copy(D.chunks[c].extras.begin(), D.chunks[c].extras.end(), D.extras.begin() + at);
+      }
+    });
   } else {
     // In sequence the chunks append straight to the step's lists, in the same order.
     for (std::size_t c = 0; c < chunkCount; ++c)
@@ -273,32 +395,7 @@ void updateContacts(RigidBodyData& D, Real dt, const ContactTuning& tuning, Step
     D.contacts.swap(D.sortedContacts);
     D.extras.swap(D.sortedExtras);
   }
-  // Warm start: match each point to last step's by (shapes, sub-shapes, feature id), in one
-  // walk through both sorted lists.
-  auto previous = D.previous.begin();
-  for (std::size_t i = 0; i < D.contacts.size(); ++i) {
-    ContactInfo& c = D.contacts[i];
-    ContactExtra& e = D.extras[i];
-    e.touching = false;
-    for (int k = 0; k < c.manifold.pointCount; ++k)
-      e.touching = e.touching || c.manifold.points[k].separation <= tuning.linearSlop;
-    if (std::exchange(e.carried, false)) continue;
-    const auto key = contactKey(c);
-    while (previous != D.previous.end() && contactKey(*previous) < key) ++previous;
-    const auto it = previous;
-    if (it == D.previous.end() || contactKey(*it) != key || it->bodyA != c.bodyA) continue;
-    const ContactExtra& pe = D.previousExtras[static_cast<std::size_t>(it - D.previous.begin())];
-    bool carried = false;
-    for (int k = 0; k < c.manifold.pointCount; ++k) {
-      for (int j = 0; j < it->manifold.pointCount; ++j) {
-        if (it->manifold.points[j].id != c.manifold.points[k].id) continue;
-        c.normalImpulses[k] = it->normalImpulses[j];
-        e.tangentImpulse[k] = pe.tangentImpulse[j];
-        carried = true;
-      }
-    }
-    if (carried) e.angularImpulse = pe.angularImpulse;
-  }
+  matchWarmStart(D, tuning, workers);
 }
 
 void reportContactEvents(RigidBodyData& D) {

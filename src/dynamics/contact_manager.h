@@ -14,7 +14,8 @@
 
 namespace inertia::detail {
 
-void updateBroadPhase(RigidBodyData& D, Real dt, const ContactTuning& tuning);
+void updateBroadPhase(RigidBodyData& D, Real dt, const ContactTuning& tuning,
+                      StepWorkers& workers);
 void updateContacts(RigidBodyData& D, Real dt, const ContactTuning& tuning, StepWorkers& workers);
 void reportContactEvents(RigidBodyData& D);
 

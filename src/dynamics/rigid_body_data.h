@@ -180,7 +180,12 @@ struct RigidBodyData {
   std::vector<std::pair<int, int>> mergedPairs;
   bool pairsDirty = true;
   std::vector<std::pair<int, int>> proxyPairs;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  std::vector<std::vector<std::pair<int, int>>> pairChunks;  // the parallel queries' output
+  std::vector<Aabb> proxyBoxes;  // per shape slot: the new bounds of an awake body's proxy
+  using ShapePair = std::pair<std::uint32_t, std::uint32_t>;
+  std::vector<ShapePair> pairs;
+  std::vector<ShapePair> planePairs;  // scratch: the planes' pairs before the merge
+  std::vector<std::vector<ShapePair>> shapePairChunks;  // the parallel filters' output
   std::vector<std::pair<std::uint32_t, std::uint32_t>> mergedShapePairs;  // scratch of the merge
   // Per shape slot, refreshed at each step's start: what the pair filter and the narrow phase
   // read of a shape and its body for every candidate pair, in a small record instead of the
@@ -208,6 +213,7 @@ struct RigidBodyData {
   std::vector<ContactConstraint> constraints;
   std::vector<SolverBody> solverBodies;
   std::vector<NarrowChunk> chunks;
+  std::vector<std::size_t> chunkOffsets;  // where each chunk's contacts go in `contacts`
   detail::ConstraintColoring coloring;
   detail::ContactBundles bundles;
   std::vector<int> solverIndex;  // per body slot, -1 when not in the solver

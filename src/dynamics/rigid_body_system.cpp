@@ -509,7 +509,7 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, ThreadPool* pool)
   tbb::task_arena* arena = pool ? &pool->impl().arena : nullptr;
   detail::StepWorkers::run(arena, [&](detail::StepWorkers& workers) {
     const auto t0 = Clock::now();
-    detail::updateBroadPhase(D, dt, s.contact);
+    detail::updateBroadPhase(D, dt, s.contact, workers);
     const auto t1 = Clock::now();
     detail::updateContacts(D, dt, s.contact, workers);
     detail::buildIslands(D);

@@ -13,10 +13,14 @@ namespace inertia::detail {
 
 namespace {
 
-// Spins a while, then gives the core away between polls: helpers wait through the main
-// worker's serial stages, and a machine with more busy threads than cores must not starve.
+// Pauses before a helper sleeps: a few microseconds, more than the gap between two solver
+// stages, less than a serial stage such as the broad phase's tree update.
+constexpr int kSpins = 2000;
+
+// A short wait in a spin: pauses, then yields the core, so that a machine with more busy
+// threads than cores does not starve.
 void backoff(int& spins) {
-  if (spins < 256) {
+  if (spins < kSpins) {
 #if defined(__x86_64__) || defined(__i386__)
     _mm_pause();
 #endif
@@ -45,6 +49,8 @@ void StepWorkers::start(tbb::task_arena* arena, DriverFn driver, void* ctx) {
       error = std::current_exception();
     }
     claim_.store(std::uint64_t(kExit) << 32, std::memory_order_release);
+    posted_.store(kExit, std::memory_order_release);
+    posted_.notify_all();
     group.wait();
     if (error) std::rethrow_exception(error);
   });
@@ -61,6 +67,8 @@ void StepWorkers::post(BlockFn fn, void* ctx, std::uint32_t blocks) {
   done_.store(0, std::memory_order_relaxed);
   const std::uint32_t epoch = ++epoch_;
   claim_.store(std::uint64_t(epoch) << 32, std::memory_order_release);
+  posted_.store(epoch, std::memory_order_release);
+  posted_.notify_all();
   runBlocks(epoch);
   int spins = 0;
   while (done_.load(std::memory_order_acquire) != blocks) backoff(spins);
@@ -71,8 +79,14 @@ void StepWorkers::helperLoop() {
   for (;;) {
     std::uint32_t epoch = 0;
     int spins = 0;
-    while ((epoch = std::uint32_t(claim_.load(std::memory_order_acquire) >> 32)) == seen)
-      backoff(spins);
+    // Spin through the short gaps between stages; sleep through the main worker's long
+    // serial stages (a futex), so an idle helper leaves its core to others.
+    while ((epoch = posted_.load(std::memory_order_acquire)) == seen) {
+      if (spins < kSpins)
+        backoff(spins);
+      else
+        posted_.wait(seen, std::memory_order_acquire);
+    }
     if (epoch == kExit) return;
     seen = epoch;
     runBlocks(epoch);

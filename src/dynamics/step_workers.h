@@ -4,8 +4,8 @@
 // independent work, the main worker posts it as `count` items cut into blocks; every worker,
 // the main one included, claims blocks with a compare-and-swap on one atomic word until none
 // is left, and the main worker waits for the last block before it goes on. Helper workers
-// spin between stages (pausing, then yielding), so a stage costs two cache-line transfers
-// rather than a fork and join of TBB tasks. The main worker can run every block alone: a
+// spin between stages and sleep on a futex when the main worker's serial work lasts longer,
+// so a stage costs a few cache-line transfers rather than a fork and join of TBB tasks. The main worker can run every block alone: a
 // helper that TBB starts late, or never, only joins later stages, so nothing waits on it.
 //
 // Items of a stage must be independent (they write disjoint data); then the result is the
@@ -36,7 +36,8 @@ class StepWorkers {
   int threadCount() const { return threads_; }
 
   /// Calls f(begin, end) over [0, count) in blocks of `grain` items (the last may be shorter)
-  /// on every worker, and returns when all are done. Items must be independent.
+  /// on every worker, and returns when all are done; in sequence, or when count <= grain,
+  /// f(0, count) once. Items must be independent.
   template <class F>
   void parallelFor(std::size_t count, std::size_t grain, F&& f) {
     if (count == 0) return;
@@ -98,6 +99,8 @@ class StepWorkers {
   std::atomic<void*> ctx_{nullptr};
   std::atomic<std::uint32_t> blocks_{0};
   alignas(64) std::atomic<std::uint32_t> done_{0};
+  // The last posted epoch, on which idle helpers sleep (a futex).
+  alignas(64) std::atomic<std::uint32_t> posted_{0};
 };
 
 }  // namespace inertia::detail

@@ -1,0 +1,89 @@
+// The step's workers (src/dynamics/step_workers.h): every item of a stage runs exactly once,
+// a stage sees everything the stages before it wrote, whoever wrote it, and a step ends (its
+// helpers exit) also when the driver throws.
+#include <gtest/gtest.h>
+
+#include <numeric>
+#include <stdexcept>
+#include <vector>
+
+#include <tbb/task_arena.h>
+
+#include "dynamics/step_workers.h"
+
+using inertia::detail::StepWorkers;
+
+namespace {
+
+// Each count and grain on 1, 2 and 4 threads (4 on a 2-core machine: more workers than cores
+// must still finish), counting how often each item ran. In sequence a stage is one block.
+TEST(StepWorkers, EveryItemRunsOnce) {
+  for (int threads : {1, 2, 4}) {
+    tbb::task_arena arena(threads);
+    StepWorkers::run(&arena, [&](StepWorkers& w) {
+      EXPECT_EQ(w.threadCount(), threads);
+      for (std::size_t count : {0, 1, 7, 64, 1000, 100003}) {
+        for (std::size_t grain : {1, 3, 64, 5000}) {
+          std::vector<int> runs(count, 0);
+          w.parallelFor(count, grain, [&](std::size_t first, std::size_t last) {
+            if (threads > 1) {
+              ASSERT_LE(last - first, grain);
+            }
+            for (std::size_t i = first; i < last; ++i) ++runs[i];
+          });
+          for (std::size_t i = 0; i < count; ++i)
+            ASSERT_EQ(runs[i], 1) << "item " << i << " of " << count << ", grain " << grain
+                                  << ", " << threads << " threads";
+        }
+      }
+    });
+  }
+}
+
+// A chain of stages, each reading what the stage before wrote in another order: item i of a
+// stage adds item (i * 7919) % n of the last (written by any worker). The sums are those of
+// the same chain in sequence; a stage that started before the last one's writes were visible,
+// or a block run twice or under the wrong stage, would change them.
+TEST(StepWorkers, StagesSeeTheWritesOfTheStagesBefore) {
+  constexpr std::size_t n = 4096;
+  constexpr int stages = 2000;
+  auto chain = [&](tbb::task_arena* arena) {
+    std::vector<std::uint64_t> a(n), b(n);
+    std::iota(a.begin(), a.end(), std::uint64_t(1));
+    StepWorkers::run(arena, [&](StepWorkers& w) {
+      for (int s = 0; s < stages; ++s) {
+        w.parallelFor(n, std::size_t(1) + std::size_t(s % 97), [&](std::size_t first,
+                                                                    std::size_t last) {
+          for (std::size_t i = first; i < last; ++i) b[i] = a[i] + a[(i * 7919) % n] + 1;
+        });
+        std::swap(a, b);
+      }
+    });
+    return a;
+  };
+  const std::vector<std::uint64_t> sequence = chain(nullptr);
+  tbb::task_arena two(2), four(4);
+  EXPECT_EQ(chain(&two), sequence);
+  EXPECT_EQ(chain(&four), sequence);
+}
+
+// An exception from the driver reaches the caller after the helpers have left: no hang, and
+// the arena works for the next step.
+TEST(StepWorkers, DriverExceptionEndsTheStep) {
+  tbb::task_arena arena(2);
+  EXPECT_THROW(StepWorkers::run(&arena,
+                                [](StepWorkers& w) {
+                                  w.parallelFor(100, 1, [](std::size_t, std::size_t) {});
+                                  throw std::runtime_error("driver");
+                                }),
+               std::runtime_error);
+  int ran = 0;
+  StepWorkers::run(&arena, [&](StepWorkers& w) {
+    std::vector<int> hits(10, 0);
+    w.parallelFor(10, 1, [&](std::size_t first, std::size_t) { hits[first] = 1; });
+    ran = std::accumulate(hits.begin(), hits.end(), 0);
+  });
+  EXPECT_EQ(ran, 10);
+}
+
+}  // namespace
