@@ -89,34 +89,45 @@ void BroadPhase::setType(int id, ProxyType type) {
   markMoved(id);
 }
 
+void BroadPhase::queryPairs(int m, std::vector<ProxyPair>& pairs) const {
+  requireProxy(m, "BroadPhase::queryPairs");
+  const Proxy& pm = proxies_[m];
+  const ProxyType tm = pm.type;
+  const Aabb& box = trees_[treeOf(tm)].fatAabb(pm.treeId);
+  // A pair of two moved proxies is reported by the query of the smaller id.
+  auto add = [&](int o) {
+    if (proxies_[o].moved && o < m) return;
+    pairs.push_back(m < o ? ProxyPair{m, o} : ProxyPair{o, m});
+  };
+  const DynamicTree& movingTree = trees_[1];
+  movingTree.query(box, [&](int leaf) {
+    const int o = static_cast<int>(movingTree.userData(leaf));
+    if (o == m) return;
+    if (tm != ProxyType::Dynamic && proxies_[o].type != ProxyType::Dynamic) return;
+    add(o);
+  });
+  // Only dynamic proxies pair with static ones; a moved static proxy found its dynamic
+  // partners in the query above.
+  if (tm == ProxyType::Dynamic) {
+    const DynamicTree& staticTree = trees_[0];
+    staticTree.query(box, [&](int leaf) { add(static_cast<int>(staticTree.userData(leaf))); });
+  }
+}
+
+void BroadPhase::clearMoved() {
+  for (const int m : moved_) proxies_[m].moved = false;
+  moved_.clear();
+}
+
+void BroadPhase::touchProxy(int id) {
+  requireProxy(id, "BroadPhase::touchProxy");
+  markMoved(id);
+}
+
 void BroadPhase::updatePairs(std::vector<ProxyPair>& pairs) {
   pairs.clear();
-  const DynamicTree& staticTree = trees_[0];
-  const DynamicTree& movingTree = trees_[1];
-  for (const int m : moved_) {
-    Proxy& pm = proxies_[m];
-    pm.moved = false;
-    const ProxyType tm = pm.type;
-    const Aabb& box = trees_[treeOf(tm)].fatAabb(pm.treeId);
-    // A pair of two moved proxies is skipped by the first one's query (the other's flag is
-    // still set) and reported by the second's.
-    auto add = [&](int o) {
-      if (proxies_[o].moved) return;
-      pairs.push_back(m < o ? ProxyPair{m, o} : ProxyPair{o, m});
-    };
-    movingTree.query(box, [&](int leaf) {
-      const int o = static_cast<int>(movingTree.userData(leaf));
-      if (o == m) return;
-      if (tm != ProxyType::Dynamic && proxies_[o].type != ProxyType::Dynamic) return;
-      add(o);
-    });
-    // Only dynamic proxies pair with static ones; a moved static proxy found its dynamic
-    // partners in the query above.
-    if (tm == ProxyType::Dynamic) {
-      staticTree.query(box, [&](int leaf) { add(static_cast<int>(staticTree.userData(leaf))); });
-    }
-  }
-  moved_.clear();
+  for (const int m : moved_) queryPairs(m, pairs);
+  clearMoved();
   // Each pair was added once; sorting makes the order independent of the trees' shapes and
   // of the order of moves.
   std::sort(pairs.begin(), pairs.end());

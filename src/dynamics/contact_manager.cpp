@@ -65,7 +65,7 @@ void refreshFrames(Data& D, Real dt, const ContactTuning& tuning, StepWorkers& w
           const Vec3 displacement = b.v * dt;
           for (std::uint32_t si : b.shapes) {
             const ShapeRecord& sh = D.shapes[si];
-            if (sh.proxy == DynamicTree::kNull) continue;
+            if (sh.proxy == BroadPhase::kNull) continue;
             Aabb box = worldBounds(sh.collider.shape(), D.frames[si].pose);
             if (b.fast) {
               const Real spin = b.w.norm() * b.extent * dt;
@@ -78,46 +78,38 @@ void refreshFrames(Data& D, Real dt, const ContactTuning& tuning, StepWorkers& w
       32);
 }
 
-// In sequence (the tree changes): the proxies of awake bodies take their new bounds; those
-// that left their fat box are reinserted and queried for new pairs.
+// In sequence (the trees change): the proxies of awake bodies take their new bounds; those
+// that left their fat box are reinserted and count as moved.
 void moveProxies(Data& D, Real dt) {
-  D.moved.clear();
-  D.enlarged.clear();
+  D.awakeProxies.clear();
   for (BodyRecord& b : D.bodies) {
     if (!b.alive || b.type == BodyType::Static || !b.awake) continue;
     const Vec3 displacement = b.v * dt;
     for (std::uint32_t si : b.shapes) {
       const ShapeRecord& sh = D.shapes[si];
-      if (sh.proxy == DynamicTree::kNull) continue;
-      if (D.tree.moveProxy(sh.proxy, D.proxyBoxes[si], displacement))
-        D.enlarged.push_back(sh.proxy);
-      D.moved.push_back(sh.proxy);
+      if (sh.proxy == BroadPhase::kNull) continue;
+      D.broadPhase.moveProxy(sh.proxy, D.proxyBoxes[si], displacement);
+      D.awakeProxies.push_back(sh.proxy);
     }
   }
   if (D.pairsDirty) {
-    D.enlarged.clear();
     D.treePairs.clear();
     for (const ShapeRecord& sh : D.shapes)
-      if (sh.alive && sh.proxy != DynamicTree::kNull && D.bodies[sh.body].type != BodyType::Static)
-        D.enlarged.push_back(sh.proxy);
+      if (sh.alive && sh.proxy != BroadPhase::kNull && D.bodies[sh.body].type != BodyType::Static)
+        D.broadPhase.touchProxy(sh.proxy);
     D.pairsDirty = false;
   }
 }
 
-// The tree's pairs of the enlarged proxies, sorted and each once (DynamicTree::computePairs,
-// with the queries on the workers).
+// The broad phase's new pairs (BroadPhase::updatePairs, with the queries of the moved proxies
+// on the workers), sorted.
 void queryNewPairs(Data& D, StepWorkers& workers) {
-  gatherInOrder(workers, D.enlarged.size(), D.pairChunks, D.proxyPairs,
-                [&](std::size_t i, std::vector<std::pair<int, int>>& out) {
-                  const int id = D.enlarged[i];
-                  D.tree.query(D.tree.fatAabb(id), [&](int other) {
-                    if (other != id) out.emplace_back(std::min(id, other), std::max(id, other));
-                  });
-                });
-  // Pairs of two enlarged proxies were found twice; sorting also makes the order independent
-  // of the tree's shape.
+  const std::span<const int> moved = D.broadPhase.movedProxies();
+  gatherInOrder(
+      workers, moved.size(), D.pairChunks, D.proxyPairs,
+      [&](std::size_t i, std::vector<ProxyPair>& out) { D.broadPhase.queryPairs(moved[i], out); });
+  D.broadPhase.clearMoved();
   std::sort(D.proxyPairs.begin(), D.proxyPairs.end());
-  D.proxyPairs.erase(std::unique(D.proxyPairs.begin(), D.proxyPairs.end()), D.proxyPairs.end());
 }
 
 // Warm start: each point takes last step's impulses by (shapes, sub-shapes, feature id), in
@@ -162,9 +154,9 @@ void updateBroadPhase(RigidBodyData& D, Real dt, const ContactTuning& tuning,
   queryNewPairs(D, workers);
   // Last step's pairs whose fat boxes still overlap, joined with the new candidates.
   gatherInOrder(workers, D.treePairs.size(), D.pairChunks, D.mergedPairs,
-                [&](std::size_t i, std::vector<std::pair<int, int>>& out) {
-                  const auto [p, q] = D.treePairs[i];
-                  if (D.tree.fatAabb(p).overlaps(D.tree.fatAabb(q))) out.emplace_back(p, q);
+                [&](std::size_t i, std::vector<ProxyPair>& out) {
+                  const ProxyPair p = D.treePairs[i];
+                  if (D.broadPhase.testOverlap(p.a, p.b)) out.push_back(p);
                 });
   D.treePairs.clear();
   std::set_union(D.mergedPairs.begin(), D.mergedPairs.end(), D.proxyPairs.begin(),
@@ -181,25 +173,25 @@ void updateBroadPhase(RigidBodyData& D, Real dt, const ContactTuning& tuning,
   };
   gatherInOrder(workers, D.treePairs.size(), D.shapePairChunks, D.pairs,
                 [&](std::size_t i, std::vector<ShapePair>& out) {
-                  const auto [p, q] = D.treePairs[i];
-                  addPair(D.tree.userData(p), D.tree.userData(q), out);
+                  const ProxyPair p = D.treePairs[i];
+                  addPair(D.broadPhase.userData(p.a), D.broadPhase.userData(p.b), out);
                 });
   const std::size_t treeCount = D.pairs.size();
-  // The planes (unbounded, not in the tree) against every moved proxy.
-  const std::size_t moved = D.moved.size();
+  // The planes (unbounded, not in the broad phase) against the awake bodies' proxies.
+  const std::size_t moved = D.awakeProxies.size();
   gatherInOrder(workers, D.planes.size() * moved, D.shapePairChunks, D.planePairs,
                 [&](std::size_t i, std::vector<ShapePair>& out) {
                   const std::uint32_t plane = D.planes[i / moved];
-                  const int proxy = D.moved[i % moved];
+                  const int proxy = D.awakeProxies[i % moved];
                   const Plane& pl = *D.shapes[plane].collider.shape().getIf<Plane>();
                   const Transform& planePose = D.frames[plane].pose;
                   const Vec3 n = planePose.rotate(pl.normal);
                   const Real offset = pl.offset + n.dot(planePose.p);
-                  const Aabb& fat = D.tree.fatAabb(proxy);
+                  const Aabb& fat = D.broadPhase.fatAabb(proxy);
                   const Vec3 c = Real(0.5) * (fat.lower + fat.upper);
                   const Vec3 e = Real(0.5) * (fat.upper - fat.lower);
                   if (n.dot(c) - offset - n.cwiseAbs().dot(e) <= 0)
-                    addPair(plane, D.tree.userData(proxy), out);
+                    addPair(plane, D.broadPhase.userData(proxy), out);
                 });
   D.pairs.insert(D.pairs.end(), D.planePairs.begin(), D.planePairs.end());
   // Sorted by shape index. The tree's pairs come sorted by proxy id, which follows the shape

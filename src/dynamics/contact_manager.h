@@ -1,7 +1,8 @@
 // Internal: the contact manager, the first stages of a step.
 //   - updateBroadPhase: moves the proxies of awake bodies (boxes swept over the step for fast
-//     bodies) in the dynamic AABB tree, keeps last step's candidate pairs whose fat boxes still
-//     overlap, queries the proxies whose fat box changed, and adds the static planes' pairs;
+//     bodies) in the broad phase (collision::BroadPhase), keeps last step's candidate pairs whose
+//     fat boxes still overlap, queries the proxies whose fat box changed, and adds the static
+//     planes' pairs;
 //   - updateContacts: the narrow phase (collide() with a speculative margin, or last step's
 //     manifold carried along while the pair barely moved), the contacts of resting bodies kept,
 //     and the warm start's impulses matched to last step's points by (shapes, sub-shapes,
@@ -14,8 +15,7 @@
 
 namespace inertia::detail {
 
-void updateBroadPhase(RigidBodyData& D, Real dt, const ContactTuning& tuning,
-                      StepWorkers& workers);
+void updateBroadPhase(RigidBodyData& D, Real dt, const ContactTuning& tuning, StepWorkers& workers);
 void updateContacts(RigidBodyData& D, Real dt, const ContactTuning& tuning, StepWorkers& workers);
 void reportContactEvents(RigidBodyData& D);
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "contact_solver.h"
-#include "inertia/collision/dynamic_tree.h"
+#include "inertia/collision/broad_phase.h"
 #include "inertia/core/error.h"
 #include "inertia/dynamics/rigid_body_system.h"
 #include "inertia/ode/step.h"
@@ -79,7 +79,7 @@ struct ShapeRecord {
   Transform local;
   bool atOrigin = true;  // local is the identity
   Material material;
-  int proxy = DynamicTree::kNull;  // none for planes
+  int proxy = BroadPhase::kNull;  // none for planes
   // A sphere about the shape's origin that holds the shape (m); infinite for a plane.
   Real radius = std::numeric_limits<Real>::infinity();
 };
@@ -157,11 +157,19 @@ inline bool isBullet(const BodyRecord& b, Real dt, const ContactTuning& tuning) 
   return b.bullet || motionBound(b, dt) > tuning.bulletFraction * b.minExtent;
 }
 
+// The broad-phase type of a body's proxies (its tree, and which pairs it forms).
+inline ProxyType proxyType(BodyType t) {
+  return t == BodyType::Static      ? ProxyType::Static
+         : t == BodyType::Kinematic ? ProxyType::Kinematic
+                                    : ProxyType::Dynamic;
+}
+
 struct RigidBodyData {
   std::vector<BodyRecord> bodies;
   std::vector<ShapeRecord> shapes;
-  DynamicTree tree{DynamicTreeSettings{.margin = Real(0.05), .displacementMultiplier = 2}};
-  std::vector<std::uint32_t> planes;  // shape indices of planes (unbounded: not in the tree)
+  // The broad phase's proxies carry their shape's index; planes are unbounded and kept apart.
+  BroadPhase broadPhase{{.tree = {.margin = Real(0.05), .displacementMultiplier = 2}}};
+  std::vector<std::uint32_t> planes;  // shape indices of planes
   std::vector<ContactInfo> contacts;
   std::vector<ContactExtra> extras;
   std::vector<ContactEvent> beginEvents;
@@ -170,17 +178,16 @@ struct RigidBodyData {
   int liveBodies = 0;
 
   // Scratch, reused from step to step.
-  std::vector<int> moved;     // proxies of the awake bodies
-  std::vector<int> enlarged;  // those whose fat box changed this step
-  // The tree's candidate pairs (proxy ids, sorted), kept from step to step: a pair stays while
-  // the fat boxes overlap, and only proxies whose fat box changed are queried for new ones.
+  std::vector<int> awakeProxies;  // the proxies of the awake bodies
+  // The broad phase's candidate pairs (sorted), kept from step to step: a pair stays while the
+  // fat boxes overlap, and only proxies whose fat box changed are queried for new ones.
   // Creating, destroying or teleporting proxies sets `pairsDirty`, and the next step queries
   // every proxy of a non-static body again.
-  std::vector<std::pair<int, int>> treePairs;
-  std::vector<std::pair<int, int>> mergedPairs;
+  std::vector<ProxyPair> treePairs;
+  std::vector<ProxyPair> mergedPairs;
   bool pairsDirty = true;
-  std::vector<std::pair<int, int>> proxyPairs;
-  std::vector<std::vector<std::pair<int, int>>> pairChunks;  // the parallel queries' output
+  std::vector<ProxyPair> proxyPairs;
+  std::vector<std::vector<ProxyPair>> pairChunks;  // the parallel queries' output
   std::vector<Aabb> proxyBoxes;  // per shape slot: the new bounds of an awake body's proxy
   using ShapePair = std::pair<std::uint32_t, std::uint32_t>;
   std::vector<ShapePair> pairs;

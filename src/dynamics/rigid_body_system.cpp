@@ -1,6 +1,6 @@
 // The rigid-body pipeline of a step (Box2D v3's order, in 3D):
 //   1. broad phase: move the proxies of awake bodies (boxes swept over the step for fast
-//      bodies), collect candidate pairs from the dynamic AABB tree, plus the static planes;
+//      bodies), collect candidate pairs from the broad phase's trees, plus the static planes;
 //   2. narrow phase: collide() each pair with a speculative margin; warm-start impulses are
 //      matched to the previous step's points by (shapes, sub-shapes, feature id);
 //   3. islands: union-find over touching pairs; an island with one awake body wakes whole;
@@ -26,7 +26,6 @@
 #include "body_motion.h"
 #include "contact_manager.h"
 #include "core/thread_pool_impl.h"
-#include "inertia/collision/dynamic_tree.h"
 #include "inertia/core/error.h"
 #include "inertia/core/math.h"
 #include "inertia/geometry/bounds.h"
@@ -42,6 +41,7 @@ namespace inertia {
 using Data = detail::RigidBodyData;
 using detail::BodyRecord;
 using detail::ContactExtra;
+using detail::proxyType;
 using detail::ShapeRecord;
 using detail::worldMomentum;
 
@@ -158,9 +158,10 @@ void Data::updateMass(BodyRecord& b) {
 void Data::refreshProxies(BodyRecord& b) {
   for (std::uint32_t si : b.shapes) {
     ShapeRecord& s = shapes[si];
-    if (s.proxy == DynamicTree::kNull) continue;
-    tree.destroyProxy(s.proxy);
-    s.proxy = tree.createProxy(worldBounds(s.collider.shape(), shapePose(s)), si);
+    if (s.proxy == BroadPhase::kNull) continue;
+    broadPhase.destroyProxy(s.proxy);
+    s.proxy = broadPhase.createProxy(worldBounds(s.collider.shape(), shapePose(s)),
+                                     proxyType(bodies[s.body].type), si);
     pairsDirty = true;
   }
 }
@@ -229,8 +230,8 @@ void RigidBodySystem::destroyBody(BodyId id) {
   BodyRecord& b = D.body(id);
   for (std::uint32_t si : b.shapes) {
     ShapeRecord& s = D.shapes[si];
-    if (s.proxy != DynamicTree::kNull) D.tree.destroyProxy(s.proxy);
-    s.proxy = DynamicTree::kNull;
+    if (s.proxy != BroadPhase::kNull) D.broadPhase.destroyProxy(s.proxy);
+    s.proxy = BroadPhase::kNull;
     D.pairsDirty = true;
     s.alive = false;
     ++s.generation;
@@ -276,7 +277,7 @@ ShapeId RigidBodySystem::addShape(BodyId bodyId, const Collider& collider, const
   s.local = {local.p, local.q.normalized()};
   s.atOrigin = s.local.p == Vec3::Zero() && s.local.q.coeffs() == Quat::Identity().coeffs();
   s.material = material;
-  s.proxy = DynamicTree::kNull;
+  s.proxy = BroadPhase::kNull;
   s.radius = std::numeric_limits<Real>::infinity();
   if (type != ShapeType::Plane) {
     // The farthest corner of the local bounds, rounded up by a few ulps.
@@ -287,7 +288,8 @@ ShapeId RigidBodySystem::addShape(BodyId bodyId, const Collider& collider, const
   if (type == ShapeType::Plane) {
     D.planes.push_back(index);
   } else {
-    s.proxy = D.tree.createProxy(worldBounds(collider.shape(), D.shapePose(s)), index);
+    s.proxy = D.broadPhase.createProxy(worldBounds(collider.shape(), D.shapePose(s)),
+                                       proxyType(b.type), index);
     D.pairsDirty = true;
   }
   b.shapes.push_back(index);
@@ -300,8 +302,8 @@ void RigidBodySystem::removeShape(ShapeId id) {
   Data& D = *d_;
   ShapeRecord& s = D.shape(id);
   BodyRecord& b = D.bodies[s.body];
-  if (s.proxy != DynamicTree::kNull) D.tree.destroyProxy(s.proxy);
-  s.proxy = DynamicTree::kNull;
+  if (s.proxy != BroadPhase::kNull) D.broadPhase.destroyProxy(s.proxy);
+  s.proxy = BroadPhase::kNull;
   D.pairsDirty = true;
   D.planes.erase(std::remove(D.planes.begin(), D.planes.end(), id.index), D.planes.end());
   D.dropContacts(id.index);
@@ -441,7 +443,8 @@ const Material& RigidBodySystem::material(ShapeId id) const { return d_->shape(i
 const std::vector<ContactInfo>& RigidBodySystem::contacts() const { return d_->contacts; }
 std::vector<BroadPhaseNode> RigidBodySystem::broadPhaseNodes() const {
   std::vector<BroadPhaseNode> nodes;
-  d_->tree.forEachNode([&](const Aabb& box, int height) { nodes.push_back({box, height}); });
+  for (const DynamicTree* tree : {&d_->broadPhase.staticTree(), &d_->broadPhase.dynamicTree()})
+    tree->forEachNode([&](const Aabb& box, int height) { nodes.push_back({box, height}); });
   return nodes;
 }
 const std::vector<ContactEvent>& RigidBodySystem::beginEvents() const { return d_->beginEvents; }
@@ -464,9 +467,9 @@ std::optional<WorldRayHit> RigidBodySystem::castRay(const Ray& ray) const {
     }
   };
   for (std::uint32_t si : D.planes) consider(si, ray.maxFraction);
-  D.tree.rayCast(ray, [&](int proxy, Real maxFraction) -> Real {
+  D.broadPhase.rayCast(ray, [&](int proxy, Real maxFraction) -> Real {
     const Real limit = best ? std::min(maxFraction, best->hit.fraction) : maxFraction;
-    consider(D.tree.userData(proxy), limit);
+    consider(D.broadPhase.userData(proxy), limit);
     return -1;  // keep going; `limit` already clips the exact tests
   });
   return best;

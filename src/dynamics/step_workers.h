@@ -5,8 +5,9 @@
 // the main one included, claims blocks with a compare-and-swap on one atomic word until none
 // is left, and the main worker waits for the last block before it goes on. Helper workers
 // spin between stages and sleep on a futex when the main worker's serial work lasts longer,
-// so a stage costs a few cache-line transfers rather than a fork and join of TBB tasks. The main worker can run every block alone: a
-// helper that TBB starts late, or never, only joins later stages, so nothing waits on it.
+// so a stage costs a few cache-line transfers rather than a fork and join of TBB tasks. The main
+// worker can run every block alone: a helper that TBB starts late, or never, only joins later
+// stages, so nothing waits on it.
 //
 // Items of a stage must be independent (they write disjoint data); then the result is the
 // same whatever the number of workers and whichever worker ran which block.

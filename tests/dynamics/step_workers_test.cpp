@@ -1,15 +1,14 @@
 // The step's workers (src/dynamics/step_workers.h): every item of a stage runs exactly once,
 // a stage sees everything the stages before it wrote, whoever wrote it, and a step ends (its
 // helpers exit) also when the driver throws.
+#include "dynamics/step_workers.h"
+
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <numeric>
 #include <stdexcept>
 #include <vector>
-
-#include <tbb/task_arena.h>
-
-#include "dynamics/step_workers.h"
 
 using inertia::detail::StepWorkers;
 
@@ -32,8 +31,8 @@ TEST(StepWorkers, EveryItemRunsOnce) {
             for (std::size_t i = first; i < last; ++i) ++runs[i];
           });
           for (std::size_t i = 0; i < count; ++i)
-            ASSERT_EQ(runs[i], 1) << "item " << i << " of " << count << ", grain " << grain
-                                  << ", " << threads << " threads";
+            ASSERT_EQ(runs[i], 1) << "item " << i << " of " << count << ", grain " << grain << ", "
+                                  << threads << " threads";
         }
       }
     });
@@ -52,10 +51,11 @@ TEST(StepWorkers, StagesSeeTheWritesOfTheStagesBefore) {
     std::iota(a.begin(), a.end(), std::uint64_t(1));
     StepWorkers::run(arena, [&](StepWorkers& w) {
       for (int s = 0; s < stages; ++s) {
-        w.parallelFor(n, std::size_t(1) + std::size_t(s % 97), [&](std::size_t first,
-                                                                    std::size_t last) {
-          for (std::size_t i = first; i < last; ++i) b[i] = a[i] + a[(i * 7919) % n] + 1;
-        });
+        w.parallelFor(n, std::size_t(1) + std::size_t(s % 97),
+                      [&](std::size_t first, std::size_t last) {
+                        for (std::size_t i = first; i < last; ++i)
+                          b[i] = a[i] + a[(i * 7919) % n] + 1;
+                      });
         std::swap(a, b);
       }
     });

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <span>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -73,6 +74,18 @@ class BroadPhase {
   /// other proxies. Then clears the moved set. Allocation-free once `pairs` and the internal
   /// buffers have grown.
   void updatePairs(std::vector<ProxyPair>& pairs);
+
+  /// The proxies moved since the last updatePairs or clearMoved, in the order they moved.
+  std::span<const int> movedProxies() const { return moved_; }
+  /// Appends the pairs of the moved proxy `id` that updatePairs reports, but for those whose
+  /// other proxy also moved and has a smaller id: over all moved proxies, each pair once (in
+  /// no particular order). Const: queries for different proxies may run concurrently, which
+  /// is how a caller spreads updatePairs over threads (then clearMoved and sort).
+  void queryPairs(int id, std::vector<ProxyPair>& pairs) const;
+  /// Clears the moved set, as updatePairs does after its queries.
+  void clearMoved();
+  /// Counts a live proxy as moved: the next update reports all its pairs again.
+  void touchProxy(int id);
 
   /// True when the fat boxes of two live proxies overlap (touching counts).
   bool testOverlap(int a, int b) const;
