@@ -57,41 +57,9 @@ void computeMasses(ContactConstraint& c, const SolverBody& a, const SolverBody& 
 
 void colorConstraints(const std::vector<ContactConstraint>& cs,
                       const std::vector<SolverBody>& bodies, ConstraintColoring& out) {
-  // Greedy, in constraint order (Box2D v3): each constraint takes the first colour in which
-  // neither of its moving bodies is used yet; static and kinematic bodies do not count.
-  const std::size_t words = (bodies.size() + 63) / 64;
-  std::vector<std::uint64_t>& used = out.used;
-  std::vector<std::uint8_t>& color = out.color;
-  used.assign(kMaxColors * words, 0);
-  color.assign(cs.size(), kMaxColors);
-  static_assert(kMaxColors < 256);
-  std::array<std::uint32_t, kMaxColors + 1> counts{};
-  auto moving = [&](int i) { return i >= 0 && bodies[static_cast<std::size_t>(i)].invMass > 0; };
-  for (std::size_t k = 0; k < cs.size(); ++k) {
-    const int a = cs[k].bodyA, b = cs[k].bodyB;
-    for (int c = 0; c < kMaxColors; ++c) {
-      std::uint64_t* set = used.data() + std::size_t(c) * words;
-      auto taken = [&](int i) { return moving(i) && (set[std::size_t(i) / 64] >> (i % 64)) & 1u; };
-      if (taken(a) || taken(b)) continue;
-      if (moving(a)) set[std::size_t(a) / 64] |= std::uint64_t(1) << (a % 64);
-      if (moving(b)) set[std::size_t(b) / 64] |= std::uint64_t(1) << (b % 64);
-      color[k] = std::uint8_t(c);
-      break;
-    }
-    ++counts[std::size_t(color[k])];
-  }
-  out.offsets.assign(1, 0);
-  for (int c = 0; c <= kMaxColors; ++c)
-    if (counts[std::size_t(c)] > 0)
-      out.offsets.push_back(out.offsets.back() + counts[std::size_t(c)]);
-  out.overflow = counts[kMaxColors] > 0;
-  // Stable: within a colour, constraints keep their order.
-  std::array<std::uint32_t, kMaxColors + 1> next{};
-  for (int c = 0, g = 0; c <= kMaxColors; ++c)
-    if (counts[std::size_t(c)] > 0) next[std::size_t(c)] = out.offsets[std::size_t(g++)];
-  out.order.resize(cs.size());
-  for (std::size_t k = 0; k < cs.size(); ++k)
-    out.order[next[std::size_t(color[k])]++] = static_cast<std::uint32_t>(k);
+  out.edges.resize(cs.size());
+  for (std::size_t k = 0; k < cs.size(); ++k) out.edges[k] = {cs[k].bodyA, cs[k].bodyB};
+  colorGraph({}, out.edges, bodies, out);
 }
 
 // The kernels, once per instruction set (contact_kernels.inl).

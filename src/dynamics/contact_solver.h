@@ -24,24 +24,12 @@
 #include <utility>
 #include <vector>
 
+#include "constraint_graph.h"
 #include "core/simd.h"
 #include "inertia/core/types.h"
 #include "step_workers.h"
 
 namespace inertia::detail {
-
-/// A body as the solver sees it: velocities and the motion since the step's start. The float
-/// kernels read v, w, dp and dR as runs of consecutive floats (contact_kernels.inl).
-struct SolverBody {
-  Vec3 v = Vec3::Zero();   ///< Linear velocity of the centre of mass (m/s).
-  Vec3 w = Vec3::Zero();   ///< Angular velocity (rad/s).
-  Vec3 dp = Vec3::Zero();  ///< Displacement of the centre of mass since the step's start (m).
-  Mat3 dR =
-      Mat3::Identity();  ///< dq as a matrix, refreshed whenever dq changes (cheaper to apply).
-  Quat dq = Quat::Identity();      ///< Rotation since the step's start.
-  Real invMass = 0;                ///< (1/kg); 0 for static and kinematic bodies.
-  Mat3 invInertia = Mat3::Zero();  ///< World inverse inertia at the step's start (1/(kg m^2)).
-};
 
 /// Soft constraint coefficients (Catto: a mass-spring-damper expressed as an implicit row).
 struct Softness {
@@ -92,23 +80,7 @@ std::array<Vec3, 2> tangentBasis(const Vec3& n);
 /// (ContactBundles::build).
 void computeMasses(ContactConstraint& c, const SolverBody& a, const SolverBody& b);
 
-/// The constraints grouped by colour (graph colouring, as Box2D v3): no two constraints of a
-/// colour share a moving body (static and kinematic bodies are shared freely), so a colour's
-/// constraints can be solved in parallel with the same result as in sequence. Constraints that
-/// find no free colour among kMaxColors form a last, overflow group solved in sequence.
-inline constexpr int kMaxColors = 24;
-/// Constraints per parallel task.
-inline constexpr std::uint32_t kColorGrain = 64;
-struct ConstraintColoring {
-  std::vector<std::uint32_t> order;    ///< Constraint indices, colour by colour.
-  std::vector<std::uint32_t> offsets;  ///< Group g is order[offsets[g], offsets[g + 1]).
-  bool overflow = false;               ///< The last group is the overflow.
-  // Scratch of colorConstraints(), kept so that colouring a step does not allocate.
-  std::vector<std::uint64_t> used;
-  std::vector<std::uint8_t> color;
-};
-
-/// Colours `cs` greedily in order: deterministic, independent of any thread count.
+/// Colours the constraint graph of `cs` alone (colorGraph with no joints).
 void colorConstraints(const std::vector<ContactConstraint>& cs,
                       const std::vector<SolverBody>& bodies, ConstraintColoring& out);
 
