@@ -3,28 +3,69 @@
 #include <algorithm>
 #include <numeric>
 
+#include "rigid_body_data.h"
+
 namespace inertia::detail {
+
+void UnionFind::reset(std::size_t n) {
+  parent_.resize(n);
+  std::iota(parent_.begin(), parent_.end(), 0u);
+}
+
+void UnionFind::unite(std::uint32_t a, std::uint32_t b) {
+  const std::uint32_t ra = find(a), rb = find(b);
+  if (ra != rb) parent_[std::max(ra, rb)] = std::min(ra, rb);
+}
+
+void groupConstraints(std::span<const GraphEdge> edges, std::size_t bodyCount,
+                      ConstraintIslands& out) {
+  out.sets.reset(bodyCount);
+  for (const GraphEdge& e : edges)
+    if (e.bodyA >= 0 && e.bodyB >= 0)
+      out.sets.unite(std::uint32_t(e.bodyA), std::uint32_t(e.bodyB));
+  // Islands numbered by their first constraint; a counting sort keeps each island's order.
+  out.islandOfRoot.assign(bodyCount, -1);
+  out.offsets.assign(1, 0);
+  out.constraints.resize(edges.size());
+  auto islandOf = [&](const GraphEdge& e) -> std::int32_t& {
+    return out.islandOfRoot[out.sets.find(std::uint32_t(e.bodyA >= 0 ? e.bodyA : e.bodyB))];
+  };
+  for (const GraphEdge& e : edges) {
+    if (e.bodyA < 0 && e.bodyB < 0) continue;
+    std::int32_t& island = islandOf(e);
+    if (island < 0) {
+      island = std::int32_t(out.offsets.size() - 1);
+      out.offsets.push_back(0);
+    }
+    ++out.offsets[std::size_t(island) + 1];
+  }
+  std::partial_sum(out.offsets.begin(), out.offsets.end(), out.offsets.begin());
+  out.constraints.resize(out.offsets.back());
+  // Each island's next free place, from its start (the offsets shifted by one).
+  std::vector<std::uint32_t>& next = out.next;
+  next.assign(out.offsets.begin(), out.offsets.end() - 1);
+  for (std::size_t k = 0; k < edges.size(); ++k) {
+    const GraphEdge& e = edges[k];
+    if (e.bodyA < 0 && e.bodyB < 0) continue;
+    out.constraints[next[std::size_t(islandOf(e))]++] = std::uint32_t(k);
+  }
+}
 
 void buildIslands(RigidBodyData& D) {
   const std::uint32_t bodyCount = static_cast<std::uint32_t>(D.bodies.size());
-  // 3. Islands: union-find over contacts between dynamic bodies; one awake body (or a moving
-  // kinematic body touching it) keeps its whole island awake.
-  D.island.resize(bodyCount);
-  std::iota(D.island.begin(), D.island.end(), 0u);
+  // Union-find over contacts between dynamic bodies; one awake body (or a moving kinematic
+  // body touching it) keeps its whole island awake.
+  D.island.reset(bodyCount);
   D.islandAwake.assign(bodyCount, 0);
   for (const ContactInfo& c : D.contacts) {
     const BodyRecord& ba = D.bodies[c.bodyA.index];
     const BodyRecord& bb = D.bodies[c.bodyB.index];
-    if (ba.type == BodyType::Dynamic && bb.type == BodyType::Dynamic) {
-      const std::uint32_t ra = findRoot(D.island, c.bodyA.index);
-      const std::uint32_t rb = findRoot(D.island, c.bodyB.index);
-      if (ra != rb) D.island[std::max(ra, rb)] = std::min(ra, rb);
-    }
+    if (ba.type == BodyType::Dynamic && bb.type == BodyType::Dynamic)
+      D.island.unite(c.bodyA.index, c.bodyB.index);
   }
   for (std::uint32_t bi = 0; bi < bodyCount; ++bi) {
     const BodyRecord& b = D.bodies[bi];
-    if (b.alive && b.type == BodyType::Dynamic && b.awake)
-      D.islandAwake[findRoot(D.island, bi)] = 1;
+    if (b.alive && b.type == BodyType::Dynamic && b.awake) D.islandAwake[D.island.find(bi)] = 1;
   }
   for (const ContactInfo& c : D.contacts) {
     const BodyRecord& ba = D.bodies[c.bodyA.index];
@@ -32,15 +73,13 @@ void buildIslands(RigidBodyData& D) {
     auto moving = [](const BodyRecord& k) {
       return k.type == BodyType::Kinematic && k.awake && (!k.v.isZero() || !k.w.isZero());
     };
-    if (moving(ba) && bb.type == BodyType::Dynamic)
-      D.islandAwake[findRoot(D.island, c.bodyB.index)] = 1;
-    if (moving(bb) && ba.type == BodyType::Dynamic)
-      D.islandAwake[findRoot(D.island, c.bodyA.index)] = 1;
+    if (moving(ba) && bb.type == BodyType::Dynamic) D.islandAwake[D.island.find(c.bodyB.index)] = 1;
+    if (moving(bb) && ba.type == BodyType::Dynamic) D.islandAwake[D.island.find(c.bodyA.index)] = 1;
   }
   for (std::uint32_t bi = 0; bi < bodyCount; ++bi) {
     BodyRecord& b = D.bodies[bi];
     if (!b.alive || b.type != BodyType::Dynamic || b.awake) continue;
-    if (D.islandAwake[findRoot(D.island, bi)]) D.wake(b);
+    if (D.islandAwake[D.island.find(bi)]) D.wake(b);
   }
 }
 
@@ -53,7 +92,7 @@ void sleepIslands(RigidBodyData& D, const DynamicsSettings& s) {
     for (std::uint32_t bi = 0; bi < bodyCount; ++bi) {
       const BodyRecord& b = D.bodies[bi];
       if (!b.alive || b.type != BodyType::Dynamic) continue;
-      Real& m = D.islandSleep[findRoot(D.island, bi)];
+      Real& m = D.islandSleep[D.island.find(bi)];
       m = std::min(m, b.sleepTime);
     }
     for (const ContactInfo& c : D.contacts) {  // touching a moving kinematic body: stay awake
@@ -62,13 +101,13 @@ void sleepIslands(RigidBodyData& D, const DynamicsSettings& s) {
         const BodyRecord& kin = D.bodies[k];
         if (kin.type == BodyType::Kinematic && (!kin.v.isZero() || !kin.w.isZero()) &&
             D.bodies[o].type == BodyType::Dynamic)
-          D.islandSleep[findRoot(D.island, o)] = 0;
+          D.islandSleep[D.island.find(o)] = 0;
       }
     }
     for (std::uint32_t bi = 0; bi < bodyCount; ++bi) {
       BodyRecord& b = D.bodies[bi];
       if (!b.alive || b.type != BodyType::Dynamic || !b.awake) continue;
-      if (D.islandSleep[findRoot(D.island, bi)] >= tuning.timeToSleep) {
+      if (D.islandSleep[D.island.find(bi)] >= tuning.timeToSleep) {
         b.awake = false;
         b.v.setZero();
         b.w.setZero();

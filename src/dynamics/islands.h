@@ -1,21 +1,59 @@
-// Internal: islands, for sleeping and waking. One union-find over the constraint graph's edges
-// between dynamic bodies (today the contacts): an island with one awake body, or touching a
-// moving kinematic body, wakes whole; an island whose every body has rested for
-// ContactTuning::timeToSleep falls asleep whole.
+// Internal: islands. One union-find serves every grouping of the step:
+//   - sleeping and waking (buildIslands, sleepIslands): bodies linked by the constraint
+//     graph's edges between dynamic bodies (today the contacts). An island with one awake body,
+//     or touching a moving kinematic body, wakes whole; an island whose every body has rested
+//     for ContactTuning::timeToSleep falls asleep whole;
+//   - the direct LCP solvers (groupConstraints): constraints linked through a shared solver
+//     body, each island one LCP. Built once a step into scratch kept from step to step.
 #pragma once
 
-#include "rigid_body_data.h"
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "constraint_graph.h"
+
+namespace inertia {
+struct DynamicsSettings;
+}
 
 namespace inertia::detail {
 
-/// The root of `i` in the union-find `parent`, halving the path on the way.
-inline std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t i) {
-  while (parent[i] != i) {
-    parent[i] = parent[parent[i]];
-    i = parent[i];
+struct RigidBodyData;
+
+/// Disjoint sets over nodes 0..n-1 (path halving; the smaller root wins a union, so the
+/// roots do not depend on the order of the unions' arguments).
+class UnionFind {
+ public:
+  void reset(std::size_t n);
+  std::uint32_t find(std::uint32_t i) {
+    while (parent_[i] != i) {
+      parent_[i] = parent_[parent_[i]];
+      i = parent_[i];
+    }
+    return i;
   }
-  return i;
-}
+  void unite(std::uint32_t a, std::uint32_t b);
+
+ private:
+  std::vector<std::uint32_t> parent_;
+};
+
+/// Constraints grouped into islands: island i is constraints[offsets[i], offsets[i + 1]), the
+/// islands in the order of their first constraint, each constraint's index in order.
+struct ConstraintIslands {
+  std::vector<std::uint32_t> constraints;
+  std::vector<std::uint32_t> offsets;
+  // Scratch, kept so that grouping a step does not allocate.
+  UnionFind sets;
+  std::vector<std::int32_t> islandOfRoot;
+  std::vector<std::uint32_t> next;
+};
+
+/// Groups the edges over `bodyCount` solver bodies into islands: edges that share a body
+/// (index >= 0; -1, a static body, links nothing) are in the same island.
+void groupConstraints(std::span<const GraphEdge> edges, std::size_t bodyCount,
+                      ConstraintIslands& out);
 
 /// Builds the islands of this step's contacts and wakes every body of an awake island.
 void buildIslands(RigidBodyData& D);

@@ -18,32 +18,8 @@ using Mat3d = Eigen::Matrix3d;
 constexpr double kRegularisation = 1e-8;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-enum class RowKind : unsigned char { Normal, Tangent, Rolling, Spinning };
-
-// One Jacobian row: the relative velocity J v = linB.vB + angB.wB + linA.vA + angA.wA.
-struct Row {
-  int a = -1, b = -1;  // solver bodies, -1 static
-  Vec3d linA = Vec3d::Zero(), angA = Vec3d::Zero(), linB = Vec3d::Zero(), angB = Vec3d::Zero();
-  double rhs = 0;  // J v + bias
-  RowKind kind = RowKind::Normal;
-  int constraint = 0;  // index into cs
-  int point = 0;       // point (normal, tangent) or axis (tangent, rolling)
-  int axis = 0;
-  double coefficient = 0;  // friction coefficient or lever arm (tangent, rolling, spinning)
-  int group = -1;          // friction group (Lemke) of tangent, rolling, spinning rows
-};
-
-struct Island {
-  std::vector<int> constraints;
-};
-
-std::uint32_t root(std::vector<std::uint32_t>& parent, std::uint32_t i) {
-  while (parent[i] != i) {
-    parent[i] = parent[parent[i]];
-    i = parent[i];
-  }
-  return i;
-}
+using RowKind = LcpRowKind;
+using Row = LcpRow;
 
 const SolverBody& bodyOf(const std::vector<SolverBody>& bodies, int i) {
   static const SolverBody kStatic{};
@@ -366,59 +342,50 @@ void clearImpulses(ContactConstraint& c) {
 
 void solveContactsLcp(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
                       const BiasMode& mode, LcpMethod method, int fallbackIterations,
-                      LcpContactStats* stats) {
-  // Islands: constraints connected through a shared solver body (static bodies do not link).
-  std::vector<std::uint32_t> parent(bodies.size());
-  std::iota(parent.begin(), parent.end(), 0u);
-  for (const ContactConstraint& c : cs)
-    if (c.bodyA >= 0 && c.bodyB >= 0)
-      parent[root(parent, static_cast<std::uint32_t>(c.bodyA))] =
-          root(parent, static_cast<std::uint32_t>(c.bodyB));
-  std::vector<int> islandOf(bodies.size(), -1);
-  std::vector<Island> islands;
-  for (std::size_t ci = 0; ci < cs.size(); ++ci) {
-    const ContactConstraint& c = cs[ci];
-    const int body = c.bodyA >= 0 ? c.bodyA : c.bodyB;
-    if (body < 0) continue;
-    int& slot = islandOf[root(parent, static_cast<std::uint32_t>(body))];
-    if (slot < 0) {
-      slot = static_cast<int>(islands.size());
-      islands.emplace_back();
-    }
-    islands[static_cast<std::size_t>(slot)].constraints.push_back(static_cast<int>(ci));
-  }
-
+                      const ConstraintIslands& islands, LcpWorkspace& ws, LcpContactStats* stats) {
   BiasMode rigid = mode;
   rigid.soft = false;
-  std::vector<Row> rows;
-  std::vector<ContactConstraint> scratch;
-  Eigen::VectorXd impulses;
-  for (const Island& island : islands) {
+  std::vector<Row>& rows = ws.rows;
+  std::vector<ContactConstraint>& scratch = ws.scratch;
+  Eigen::VectorXd& impulses = ws.impulses;
+  for (std::size_t i = 0; i + 1 < islands.offsets.size(); ++i) {
+    const std::span<const std::uint32_t> island(islands.constraints.data() + islands.offsets[i],
+                                                islands.offsets[i + 1] - islands.offsets[i]);
     if (stats) ++stats->islands;
     rows.clear();
     int groups = 0;
-    for (int ci : island.constraints)
-      buildRows(cs[static_cast<std::size_t>(ci)], ci, bodies, rigid, rows, groups);
+    for (std::uint32_t ci : island) buildRows(cs[ci], int(ci), bodies, rigid, rows, groups);
     const bool small = static_cast<int>(rows.size()) <= kMaxLcpUnknowns;
     if (small && solveIsland(rows, cs, bodies, method, impulses, stats)) {
       if (stats) ++stats->direct;
-      for (int ci : island.constraints) clearImpulses(cs[static_cast<std::size_t>(ci)]);
-      for (std::size_t i = 0; i < rows.size(); ++i) {
-        const double z = impulses[static_cast<Eigen::Index>(i)];
-        applyRow(rows[i], z, bodies);
-        storeImpulse(rows[i], z, cs);
+      for (std::uint32_t ci : island) clearImpulses(cs[ci]);
+      for (std::size_t r = 0; r < rows.size(); ++r) {
+        const double z = impulses[static_cast<Eigen::Index>(r)];
+        applyRow(rows[r], z, bodies);
+        storeImpulse(rows[r], z, cs);
       }
       continue;
     }
     // Fallback: the pgs iterations on this island, warm started as the pgs solver is.
     if (stats) ++stats->fallbacks;
     scratch.clear();
-    for (int ci : island.constraints) scratch.push_back(cs[static_cast<std::size_t>(ci)]);
+    for (std::uint32_t ci : island) scratch.push_back(cs[ci]);
     warmStart(scratch, bodies);
     for (int it = 0; it < fallbackIterations; ++it) solve(scratch, bodies, rigid);
-    for (std::size_t k = 0; k < scratch.size(); ++k)
-      cs[static_cast<std::size_t>(island.constraints[k])] = scratch[k];
+    for (std::size_t k = 0; k < scratch.size(); ++k) cs[island[k]] = scratch[k];
   }
+}
+
+void solveContactsLcp(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
+                      const BiasMode& mode, LcpMethod method, int fallbackIterations,
+                      LcpContactStats* stats) {
+  // Islands: constraints connected through a shared solver body (static bodies do not link).
+  std::vector<GraphEdge> edges;
+  for (const ContactConstraint& c : cs) edges.push_back({c.bodyA, c.bodyB});
+  ConstraintIslands islands;
+  groupConstraints(edges, bodies.size(), islands);
+  LcpWorkspace ws;
+  solveContactsLcp(cs, bodies, mode, method, fallbackIterations, islands, ws, stats);
 }
 
 }  // namespace inertia::detail

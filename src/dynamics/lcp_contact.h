@@ -23,9 +23,11 @@
 // changes the velocities by 1e-8 of an impulse's effect.
 #pragma once
 
+#include <Eigen/Core>
 #include <vector>
 
 #include "contact_solver.h"
+#include "islands.h"
 
 namespace inertia::detail {
 
@@ -50,6 +52,38 @@ struct LcpContactStats {
 /// tangentImpulse, rollingImpulse, spinningImpulse, maxNormalImpulse), so events and the
 /// next substep's fallback warm start see them. `fallbackIterations` pgs iterations for the
 /// islands that are not solved directly.
+enum class LcpRowKind : unsigned char { Normal, Tangent, Rolling, Spinning };
+
+/// One Jacobian row of an island's LCP: the relative velocity
+/// J v = linB.vB + angB.wB + linA.vA + angA.wA.
+struct LcpRow {
+  int a = -1, b = -1;  ///< Solver bodies, -1 static.
+  Eigen::Vector3d linA = Eigen::Vector3d::Zero(), angA = Eigen::Vector3d::Zero();
+  Eigen::Vector3d linB = Eigen::Vector3d::Zero(), angB = Eigen::Vector3d::Zero();
+  double rhs = 0;  ///< J v + bias.
+  LcpRowKind kind = LcpRowKind::Normal;
+  int constraint = 0;  ///< Index into cs.
+  int point = 0;       ///< Point (normal, tangent) or axis (tangent, rolling).
+  int axis = 0;
+  double coefficient = 0;  ///< Friction coefficient or lever arm (tangent, rolling, spinning).
+  int group = -1;          ///< Friction group (Lemke) of tangent, rolling, spinning rows.
+};
+
+/// What solveContactsLcp keeps from call to call, so that the rows and the fallback's copies
+/// are not allocated every substep (the dense solve of an island still allocates).
+struct LcpWorkspace {
+  std::vector<LcpRow> rows;
+  std::vector<ContactConstraint> scratch;
+  Eigen::VectorXd impulses;
+};
+
+/// The same on islands grouped once a step (groupConstraints over the constraints' solver
+/// bodies), with a workspace kept from step to step.
+void solveContactsLcp(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
+                      const BiasMode& mode, LcpMethod method, int fallbackIterations,
+                      const ConstraintIslands& islands, LcpWorkspace& ws,
+                      LcpContactStats* stats = nullptr);
+
 void solveContactsLcp(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
                       const BiasMode& mode, LcpMethod method, int fallbackIterations,
                       LcpContactStats* stats = nullptr);

@@ -15,6 +15,8 @@
 #include "inertia/core/error.h"
 #include "inertia/dynamics/rigid_body_system.h"
 #include "inertia/ode/step.h"
+#include "islands.h"
+#include "lcp_contact.h"
 
 namespace inertia::detail {
 
@@ -240,7 +242,10 @@ struct RigidBodyData {
     bool gyroscopic = false;  // not c * identity: the implicit gyroscopic step applies
   };
   std::vector<SubstepMotion> motion;
-  std::vector<std::uint32_t> island;  // union-find parents per body slot
+  UnionFind island;                     // per body slot: the islands for sleeping and waking
+  std::vector<GraphEdge> contactEdges;  // per constraint: its solver bodies
+  ConstraintIslands lcpIslands;         // the LCP solvers' islands of this step
+  LcpWorkspace lcp;
   std::vector<std::uint8_t> islandAwake;
   std::vector<Real> islandSleep;
   std::vector<ode::Workspace<Real>> workspaces;  // per body slot (Verlet keeps history)

@@ -235,6 +235,9 @@ void prepareContacts(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
           prepareContact(D, s, D.constraints[k], soft, staticSoft);
       },
       32);
+  D.contactEdges.resize(D.constraints.size());
+  for (std::size_t k = 0; k < D.constraints.size(); ++k)
+    D.contactEdges[k] = {D.constraints[k].bodyA, D.constraints[k].bodyB};
   if (isLcp(s)) {
     for (ContactConstraint& c : D.constraints) {
       const SolverBody none{};
@@ -242,9 +245,10 @@ void prepareContacts(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
       const SolverBody& b = c.bodyB >= 0 ? D.solverBodies[static_cast<std::size_t>(c.bodyB)] : none;
       computeMasses(c, a, b);
     }
+    groupConstraints(D.contactEdges, D.solverBodies.size(), D.lcpIslands);
   } else {
-    // The bundles compute the masses themselves, a bundle of constraints at a time.
-    colorConstraints(D.constraints, D.solverBodies, D.coloring);
+    // The graph's colours; the bundles compute the masses themselves, a bundle at a time.
+    colorGraph({}, D.contactEdges, D.solverBodies, D.coloring);
     D.bundles.build(D.constraints, D.solverBodies, D.coloring, workers);
   }
   prepareMotion(D, s, h, workers);
@@ -274,7 +278,8 @@ double solveSubsteps(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
     if (lcp) {
       // Direct LCP per island in place of the warm start and iterations (lcp_contact.h).
       updateApproach(D.constraints, D.solverBodies);
-      solveContactsLcp(D.constraints, D.solverBodies, mode, lcpMethod, s.solver.iterations);
+      solveContactsLcp(D.constraints, D.solverBodies, mode, lcpMethod, s.solver.iterations,
+                       D.lcpIslands, D.lcp);
     } else {
       warmStart(D, workers);
       solve(D, mode, s.solver.iterations, workers);
