@@ -505,30 +505,33 @@ Vec3 RigidBodySystem::angularMomentum(const Vec3& about) const {
 
 void RigidBodySystem::step(Real dt, const DynamicsSettings& s, ThreadPool* pool) {
   require(std::isfinite(dt) && dt > 0, "RigidBodySystem::step: dt must be finite and > 0 (s)");
+  detail::StepWorkers::run(pool ? &pool->impl().arena : nullptr,
+                           [&](detail::StepWorkers& workers) { step(dt, s, workers); });
+}
+
+void RigidBodySystem::step(Real dt, const DynamicsSettings& s, detail::StepWorkers& workers) {
+  require(std::isfinite(dt) && dt > 0, "RigidBodySystem::step: dt must be finite and > 0 (s)");
   using Clock = std::chrono::steady_clock;
   Data& D = *d_;
   D.beginEvents.clear();
   D.endEvents.clear();
-  tbb::task_arena* arena = pool ? &pool->impl().arena : nullptr;
-  detail::StepWorkers::run(arena, [&](detail::StepWorkers& workers) {
-    const auto t0 = Clock::now();
-    detail::updateBroadPhase(D, dt, s.contact, workers);
-    const auto t1 = Clock::now();
-    detail::updateContacts(D, dt, s.contact, workers);
-    detail::buildIslands(D);
-    detail::prepareContacts(D, s, dt, workers);
-    const auto t2 = Clock::now();
-    const double integration = detail::solveSubsteps(D, s, dt, workers);
-    const auto t3 = Clock::now();
-    detail::finalizeBodies(D, s, dt, workers);
-    detail::sleepIslands(D, s);
-    const auto t4 = Clock::now();
-    detail::reportContactEvents(D);
-    D.times.broadPhase += std::chrono::duration<double>(t1 - t0).count();
-    D.times.narrowPhase += std::chrono::duration<double>(t2 - t1).count();
-    D.times.solver += std::chrono::duration<double>(t3 - t2).count() - integration;
-    D.times.integration += std::chrono::duration<double>(t4 - t3).count() + integration;
-  });
+  const auto t0 = Clock::now();
+  detail::updateBroadPhase(D, dt, s.contact, workers);
+  const auto t1 = Clock::now();
+  detail::updateContacts(D, dt, s.contact, workers);
+  detail::buildIslands(D);
+  detail::prepareContacts(D, s, dt, workers);
+  const auto t2 = Clock::now();
+  const double integration = detail::solveSubsteps(D, s, dt, workers);
+  const auto t3 = Clock::now();
+  detail::finalizeBodies(D, s, dt, workers);
+  detail::sleepIslands(D, s);
+  const auto t4 = Clock::now();
+  detail::reportContactEvents(D);
+  D.times.broadPhase += std::chrono::duration<double>(t1 - t0).count();
+  D.times.narrowPhase += std::chrono::duration<double>(t2 - t1).count();
+  D.times.solver += std::chrono::duration<double>(t3 - t2).count() - integration;
+  D.times.integration += std::chrono::duration<double>(t4 - t3).count() + integration;
 }
 
 }  // namespace inertia

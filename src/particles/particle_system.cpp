@@ -6,6 +6,9 @@
 #include <cmath>
 #include <cstring>
 #include <type_traits>
+
+#include "core/thread_pool_impl.h"
+#include "dynamics/step_workers.h"
 // Hand-vectorised loops for float on x86-64 (SSE2 is part of the base instruction set); the
 // plain loops after them finish the batch and are the whole path elsewhere. Both compute the
 // same bits: the same IEEE operations on the same values, no contraction (-ffp-contract=off).
@@ -15,9 +18,6 @@
 #else
 #define INERTIA_PARTICLES_SSE 0
 #endif
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include "inertia/collision/queries.h"
 #include "inertia/collision/uniform_grid.h"
@@ -319,13 +319,19 @@ void ParticleSystem::springAccelerations(std::span<const Real> x, std::span<cons
   }
 }
 
-void ParticleSystem::step(Real h, tbb::task_arena* arena) {
+void ParticleSystem::step(Real h, ThreadPool* pool) {
   require(std::isfinite(h) && h > 0, "ParticleSystem::step: h must be finite and > 0 (s)");
-  auto run = [&] {
+  detail::StepWorkers::run(pool ? &pool->impl().arena : nullptr,
+                           [&](detail::StepWorkers& workers) { step(h, workers); });
+}
+
+void ParticleSystem::step(Real h, detail::StepWorkers& workers) {
+  require(std::isfinite(h) && h > 0, "ParticleSystem::step: h must be finite and > 0 (s)");
+  {
     for (Emitter& e : emitters_) stats_.emitted += e.emit(pool_, h);
     if (!springs_.empty()) resolveSprings();
-    integrate(h);
-    if (settings_.particleCollisions) collideParticles();
+    integrate(h, workers);
+    if (settings_.particleCollisions) collideParticles(workers);
     const std::size_t n = pool_.size();
     std::size_t deaths = 0;
     const std::size_t batches = (n + kBatch - 1) / kBatch;
@@ -341,12 +347,10 @@ void ParticleSystem::step(Real h, tbb::task_arena* arena) {
     stats_.died += std::int64_t(died);
     if (died > 0 && !springs_.empty()) resolveSprings();
     time_ += double(h);
-  };
-  if (arena) arena->execute(run);
-  else run();
+  }
 }
 
-void ParticleSystem::integrate(Real h) {
+void ParticleSystem::integrate(Real h, detail::StepWorkers& workers) {
   Scratch& w = *scratch_;
   const std::size_t n = pool_.size();
   if (n == 0) return;
@@ -356,7 +360,7 @@ void ParticleSystem::integrate(Real h) {
   if (coupled) {
     // The whole pool moves at once: keep every start position for the swept tests.
     if (collide) std::copy_n(pool_.positions().data(), 3 * n, w.previous.data());
-    integrateCoupled(h);
+    integrateCoupled(h, workers);
   }
   // Symplectic Euler, the default, takes a fused path: one kernel per batch does what
   // ode::symplecticEuler does (v += h a, then x += h v, element by element: the same bits),
@@ -386,10 +390,9 @@ void ParticleSystem::integrate(Real h) {
     for (std::size_t k = 0; k < obstacleCache_.size(); ++k) tests[k] = nearTest(obstacleCache_[k]);
 
   const std::size_t batches = (n + kBatch - 1) / kBatch;
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, batches, 1),
-      [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t b = r.begin(); b != r.end(); ++b) {
+  workers.parallelFor(
+      batches, 1, [&](std::size_t first, std::size_t last) {
+        for (std::size_t b = first; b != last; ++b) {
           const std::size_t begin = b * kBatch, count = std::min(kBatch, n - begin);
           std::span<Real> x = pool_.positions().subspan(3 * begin, 3 * count);
           std::span<Real> v = pool_.velocities().subspan(3 * begin, 3 * count);
@@ -518,8 +521,7 @@ void ParticleSystem::integrate(Real h) {
           w.deaths[b] = deaths;
           if (collide) collideObstacles(begin, begin + count, previous);
         }
-      },
-      tbb::simple_partitioner());
+      });
 }
 
 // The full path of collideObstacles() for a system whose only plane is `c`, specialised to a
@@ -572,24 +574,22 @@ bool ParticleSystem::collidePlaneOnly(const ObstacleCache& c, const Real* previo
 
 // Springs couple particles across batches: the whole pool is one system. Fields are still
 // evaluated batch by batch in parallel; the springs add their forces in a fixed order.
-void ParticleSystem::integrateCoupled(Real h) {
+void ParticleSystem::integrateCoupled(Real h, detail::StepWorkers& workers) {
   Scratch& w = *scratch_;
   const std::size_t n = pool_.size();
   const auto m = pool_.masses();
   auto accel = [&](Real time, ode::ConstView<Real> xs, ode::ConstView<Real> vs, ode::View<Real> a) {
     const std::size_t batches = (n + kBatch - 1) / kBatch;
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, batches, 1),
-        [&](const tbb::blocked_range<std::size_t>& r) {
-          for (std::size_t b = r.begin(); b != r.end(); ++b) {
+    workers.parallelFor(
+        batches, 1, [&](std::size_t first, std::size_t last) {
+          for (std::size_t b = first; b != last; ++b) {
             const std::size_t begin = b * kBatch, count = std::min(kBatch, n - begin);
             a.segment(3 * begin, 3 * count).setZero();
             applyFields(fields_, FieldBatch{time, {xs.data() + 3 * begin, 3 * count},
                                             {vs.data() + 3 * begin, 3 * count}, m.subspan(begin, count),
                                             {a.data() + 3 * begin, 3 * count}});
           }
-        },
-        tbb::simple_partitioner());
+        });
     springAccelerations({xs.data(), 3 * n}, {vs.data(), 3 * n}, {a.data(), 3 * n});
   };
   ode::step(settings_.integrator, accel, Real(time_), h, pool_.positions(), pool_.velocities(),
@@ -765,7 +765,7 @@ void ParticleSystem::collideObstacles(std::size_t begin, std::size_t end, const 
 // Particles as spheres of their radii, found through a uniform grid (the seeds' broad phase for
 // many equal objects). Jacobi: every particle computes its own correction from a snapshot of
 // its neighbours, so the result does not depend on the order or the thread count. Two passes.
-void ParticleSystem::collideParticles() {
+void ParticleSystem::collideParticles(detail::StepWorkers& workers) {
   Scratch& w = *scratch_;
   const std::size_t n = pool_.size();
   if (n < 2) return;
@@ -782,10 +782,9 @@ void ParticleSystem::collideParticles() {
     auto xs = pool_.positions();
     auto vs = pool_.velocities();
     const std::size_t batches = (n + kBatch - 1) / kBatch;
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, batches, 1),
-        [&](const tbb::blocked_range<std::size_t>& r) {
-          for (std::size_t b = r.begin(); b != r.end(); ++b) {
+    workers.parallelFor(
+        batches, 1, [&](std::size_t first, std::size_t last) {
+          for (std::size_t b = first; b != last; ++b) {
             const std::size_t end = std::min(n, (b + 1) * kBatch);
             for (std::size_t i = b * kBatch; i < end; ++i) {
               const Vec3 xi = Eigen::Map<const Vec3>(&w.snapshotX[3 * i]);
@@ -807,16 +806,13 @@ void ParticleSystem::collideParticles() {
               Eigen::Map<Vec3>(&vs[3 * i]) += dv;
             }
           }
-        },
-        tbb::simple_partitioner());
+        });
     if (obstacleCache_.empty()) continue;
     // Corrections may push particles into obstacles: push them back out (discrete test).
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, batches, 1),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        for (std::size_t b = r.begin(); b != r.end(); ++b)
-                          collideObstacles(b * kBatch, std::min(n, (b + 1) * kBatch), nullptr);
-                      },
-                      tbb::simple_partitioner());
+    workers.parallelFor(batches, 1, [&](std::size_t first, std::size_t last) {
+      for (std::size_t b = first; b != last; ++b)
+        collideObstacles(b * kBatch, std::min(n, (b + 1) * kBatch), nullptr);
+    });
   }
 }
 

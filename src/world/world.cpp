@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/thread_pool_impl.h"
+#include "dynamics/step_workers.h"
 #include "inertia/core/error.h"
 
 namespace inertia {
@@ -49,20 +50,23 @@ void World::step(Real dt) {
   // body does.
   for (ParticleSlot& slot : particleSlots_)
     if (slot.system) followBodies(*slot.system);
-  bodies_.step(dt, dynamics, threads_.get());
-  const auto t0 = Clock::now();
-  bool obstaclesGathered = false;
-  for (ParticleSlot& slot : particleSlots_) {
-    if (!slot.system) continue;
-    ParticleSystem& ps = *slot.system;
-    if (ps.settings().collideWithBodies) {
-      if (!obstaclesGathered) gatherBodyObstacles();
-      obstaclesGathered = true;
-      ps.setMovingObstacles(bodyObstacles_);
+  // One set of workers for the whole step: the rigid bodies' stages, then the particles'.
+  detail::StepWorkers::run(&threads_->impl().arena, [&](detail::StepWorkers& workers) {
+    bodies_.step(dt, dynamics, workers);
+    const auto t0 = Clock::now();
+    bool obstaclesGathered = false;
+    for (ParticleSlot& slot : particleSlots_) {
+      if (!slot.system) continue;
+      ParticleSystem& ps = *slot.system;
+      if (ps.settings().collideWithBodies) {
+        if (!obstaclesGathered) gatherBodyObstacles();
+        obstaclesGathered = true;
+        ps.setMovingObstacles(bodyObstacles_);
+      }
+      ps.step(dt, workers);
     }
-    ps.step(dt, &threads_->impl().arena);
-  }
-  phases_.particles += std::chrono::duration<double>(Clock::now() - t0).count();
+    phases_.particles += std::chrono::duration<double>(Clock::now() - t0).count();
+  });
   time_ += double(dt);
   ++steps_;
 }

@@ -1,9 +1,9 @@
 // The same system gives the same bytes whatever the thread count.
+#include <gtest/gtest.h>
+
 #include <cstring>
 
-#include <gtest/gtest.h>
-#include <tbb/task_arena.h>
-
+#include "inertia/core/thread_pool.h"
 #include "inertia/particles/particle_system.h"
 
 using namespace inertia;
@@ -35,7 +35,7 @@ bool sameBytes(const ParticlePool& a, const ParticlePool& b) {
 
 TEST(ParticleDeterminism, SameBytesAtOneAndTwoThreads) {
   for (bool granular : {false, true}) {
-    tbb::task_arena one(1), two(2);
+    ThreadPool one(1), two(2);
     ParticleSystem a = makeSystem(granular), b = makeSystem(granular);
     for (int step = 0; step < 30; ++step) {
       a.step(Real(1.0 / 60), &one);

@@ -2,15 +2,16 @@
 // symplectic Euler kernel against ode::step, the single-plane collision path against the full
 // obstacle loop, and the kernels' SSE2 and AVX2 versions against the scalar one. All must give
 // the same bits, not merely close values.
+#include "particles/fast_path.h"
+
 #include <gtest/gtest.h>
-#include <tbb/task_arena.h>
 
 #include <cstring>
 #include <vector>
 
+#include "inertia/core/thread_pool.h"
 #include "inertia/ode/step.h"
 #include "inertia/particles/particle_system.h"
-#include "particles/fast_path.h"
 
 using namespace inertia;
 
@@ -182,7 +183,7 @@ TEST_P(ParticleSimdTest, EveryInstructionSetGivesTheScalarBits) {
     const SimdLevel forced = detail::particleSimd();
     detail::setParticleSimd(SimdLevel::Scalar);
     ParticleSystem scalar = rainScene(pebbles);
-    tbb::task_arena one(1), two(2);
+    ThreadPool one(1), two(2);
     for (int step = 0; step < 90; ++step) {
       detail::setParticleSimd(forced);
       wide.step(Real(1.0 / 60), step % 2 ? &two : &one);

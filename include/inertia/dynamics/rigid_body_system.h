@@ -23,6 +23,7 @@ namespace inertia {
 
 namespace detail {
 struct RigidBodyData;
+class StepWorkers;
 }
 
 /// The contact solver (DESIGN.md section 4, `"solver": {"type": ...}`).
@@ -198,6 +199,9 @@ class RigidBodySystem {
   /// Advances by `dt` seconds in settings.substeps substeps on the threads of `pool` (in
   /// sequence when null). Never throws for valid state.
   void step(Real dt, const DynamicsSettings& settings, ThreadPool* pool = nullptr);
+  /// The same on the workers of a step already under way (World steps its bodies and
+  /// particle systems on one set of workers). Internal.
+  void step(Real dt, const DynamicsSettings& settings, detail::StepWorkers& workers);
 
   int bodyCount() const;
   /// Manifolds with at least one touching point (separation <= linear slop) after the last step.

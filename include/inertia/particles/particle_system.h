@@ -8,9 +8,8 @@
 #include <string>
 #include <vector>
 
-#include <tbb/task_arena.h>
-
 #include "inertia/collision/collider.h"
+#include "inertia/core/thread_pool.h"
 #include "inertia/core/types.h"
 #include "inertia/ode/method.h"
 #include "inertia/particles/emitter.h"
@@ -18,6 +17,10 @@
 #include "inertia/particles/pool.h"
 
 namespace inertia {
+
+namespace detail {
+class StepWorkers;
+}
 
 /// A static obstacle particles collide with: a shape in a pose.
 struct Obstacle {
@@ -119,9 +122,12 @@ class ParticleSystem {
 
   /// Advances by h seconds: emit, integrate under the fields and springs, age and kill,
   /// collide with obstacles (continuously: the swept segment is tested) and, when enabled,
-  /// with each other. Parallel loops run in `arena` when given (else in the caller's).
-  /// Throws InvalidArgument when h is not finite and > 0.
-  void step(Real h, tbb::task_arena* arena = nullptr);
+  /// with each other, on the threads of `pool` (in sequence when null; the result is the
+  /// same). Throws InvalidArgument when h is not finite and > 0.
+  void step(Real h, ThreadPool* pool = nullptr);
+  /// The same on the workers of a step already under way (World steps its bodies and
+  /// particle systems on one set of workers). Internal.
+  void step(Real h, detail::StepWorkers& workers);
 
   /// Total kinetic energy (J) and the potential energy of the springs (J), for tests and plots.
   double kineticEnergy() const;
@@ -129,8 +135,8 @@ class ParticleSystem {
 
  private:
   struct Scratch;
-  void integrate(Real h);
-  void integrateCoupled(Real h);
+  void integrate(Real h, detail::StepWorkers& workers);
+  void integrateCoupled(Real h, detail::StepWorkers& workers);
   /// Collides particles [begin, end) with the obstacles. `previous` holds their positions at
   /// the start of the step (3 Reals each, from `begin`) for the swept test, or is null for a
   /// discrete test only. `near`, when given, lists (as offsets from `begin`, increasing) the
@@ -139,7 +145,7 @@ class ParticleSystem {
                         const std::uint16_t* near = nullptr, std::size_t nearCount = 0);
   std::size_t nearList(std::size_t begin, std::size_t count, const Real* start, const Real* end,
                        std::uint16_t* list) const;
-  void collideParticles();
+  void collideParticles(detail::StepWorkers& workers);
   void resolveSprings();
   void springAccelerations(std::span<const Real> x, std::span<const Real> v,
                            std::span<Real> acc) const;
