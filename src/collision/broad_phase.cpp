@@ -14,11 +14,8 @@ BroadPhase::BroadPhase(const BroadPhaseSettings& settings)
     : trees_{DynamicTree(settings.tree), DynamicTree(settings.tree)},
       margin_(settings.tree.margin) {}
 
-void BroadPhase::requireProxy(int id, const char* what) const {
-  // Per-move check: the message is built only on failure.
-  if (!isProxy(id))
-    throw InvalidArgument(std::string(what) + ": id " + std::to_string(id) +
-                          " is not a live proxy");
+void BroadPhase::throwNotAProxy(int id, const char* what) {
+  throw InvalidArgument(std::string(what) + ": id " + std::to_string(id) + " is not a live proxy");
 }
 
 void BroadPhase::markMoved(int id) {
@@ -131,24 +128,6 @@ void BroadPhase::updatePairs(std::vector<ProxyPair>& pairs) {
   // Each pair was added once; sorting makes the order independent of the trees' shapes and
   // of the order of moves.
   std::sort(pairs.begin(), pairs.end());
-}
-
-bool BroadPhase::testOverlap(int a, int b) const { return fatAabb(a).overlaps(fatAabb(b)); }
-
-const Aabb& BroadPhase::fatAabb(int id) const {
-  requireProxy(id, "BroadPhase::fatAabb");
-  const Proxy& p = proxies_[id];
-  return trees_[treeOf(p.type)].fatAabb(p.treeId);
-}
-
-ProxyType BroadPhase::type(int id) const {
-  requireProxy(id, "BroadPhase::type");
-  return proxies_[id].type;
-}
-
-std::uint32_t BroadPhase::userData(int id) const {
-  requireProxy(id, "BroadPhase::userData");
-  return proxies_[id].userData;
 }
 
 void BroadPhase::validate() const {

@@ -88,13 +88,23 @@ class BroadPhase {
   void touchProxy(int id);
 
   /// True when the fat boxes of two live proxies overlap (touching counts).
-  bool testOverlap(int a, int b) const;
+  bool testOverlap(int a, int b) const { return fatAabb(a).overlaps(fatAabb(b)); }
   /// Fat box of a live proxy (m): its object bounds grown by the margin and the motion.
-  const Aabb& fatAabb(int id) const;
+  const Aabb& fatAabb(int id) const {
+    requireProxy(id, "BroadPhase::fatAabb");
+    const Proxy& p = proxies_[std::size_t(id)];
+    return trees_[treeOf(p.type)].fatAabb(p.treeId);
+  }
   /// The type of a live proxy.
-  ProxyType type(int id) const;
+  ProxyType type(int id) const {
+    requireProxy(id, "BroadPhase::type");
+    return proxies_[std::size_t(id)].type;
+  }
   /// The user value of a live proxy.
-  std::uint32_t userData(int id) const;
+  std::uint32_t userData(int id) const {
+    requireProxy(id, "BroadPhase::userData");
+    return proxies_[std::size_t(id)].userData;
+  }
   /// True when `id` names a live proxy.
   bool isProxy(int id) const {
     return id >= 0 && id < static_cast<int>(proxies_.size()) && proxies_[id].treeId != kNull;
@@ -138,7 +148,12 @@ class BroadPhase {
     bool moved = false;
   };
   static int treeOf(ProxyType t) { return t == ProxyType::Static ? 0 : 1; }
-  void requireProxy(int id, const char* what) const;
+  // Inline, with the throw out of line: the accessors run per candidate pair.
+  void requireProxy(int id, const char* what) const {
+    if (!isProxy(id)) [[unlikely]]
+      throwNotAProxy(id, what);
+  }
+  [[noreturn]] static void throwNotAProxy(int id, const char* what);
   void markMoved(int id);
 
   DynamicTree trees_[2];
