@@ -18,7 +18,7 @@ namespace {
 // chunks on the workers, each into its own buffer of `chunks`, joined in chunk order, so the
 // result does not depend on the number of workers. In sequence, straight into `out`.
 template <class T, class Emit>
-void gatherInOrder(StepWorkers& workers, std::size_t n, std::vector<std::vector<T>>& chunks,
+void gatherInOrder(StepWorkers& workers, std::size_t n, std::vector<ChunkOf<T>>& chunks,
                    std::vector<T>& out, Emit emit) {
   out.clear();
   if (workers.threadCount() == 1) {
@@ -30,11 +30,13 @@ void gatherInOrder(StepWorkers& workers, std::size_t n, std::vector<std::vector<
   if (chunks.size() < count) chunks.resize(count);
   workers.parallelFor(count, 1, [&](std::size_t first, std::size_t last) {
     for (std::size_t c = first; c < last; ++c) {
-      chunks[c].clear();
-      for (std::size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) emit(i, chunks[c]);
+      std::vector<T>& items = chunks[c].items;
+      items.clear();
+      for (std::size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) emit(i, items);
     }
   });
-  for (std::size_t c = 0; c < count; ++c) out.insert(out.end(), chunks[c].begin(), chunks[c].end());
+  for (std::size_t c = 0; c < count; ++c)
+    out.insert(out.end(), chunks[c].items.begin(), chunks[c].items.end());
 }
 
 // Per body, in parallel: the shapes' frames for the narrow phase, whether the body is
@@ -212,10 +214,10 @@ void updateContacts(RigidBodyData& D, Real dt, const ContactTuning& tuning, Step
   const bool reuse = tuning.reuseDistance > 0 && tuning.reuseAngle > 0;
   const Real reuseDistance2 = tuning.reuseDistance * tuning.reuseDistance;
   const Real reuseCosine = std::cos(Real(0.5) * tuning.reuseAngle);  // |q . q'| = cos(angle / 2)
+  // The lists of the step before last become this step's: the parallel join overwrites them
+  // in place (constructing only what they lack), the sequential path clears and appends.
   std::swap(D.previous, D.contacts);
   std::swap(D.previousExtras, D.extras);
-  D.contacts.clear();
-  D.extras.clear();
   // The pairs in fixed chunks (boundaries independent of the thread count), each collided into
   // its own buffers on the arena, then joined in chunk order: the same contacts in the same
   // order whatever the number of threads.
@@ -329,14 +331,17 @@ void updateContacts(RigidBodyData& D, Real dt, const ContactTuning& tuning, Step
     }
   };
   if (workers.threadCount() > 1 && chunkCount > 1) {
-    workers.parallelFor(chunkCount, 1, [&](std::size_t first, std::size_t last) {
-      for (std::size_t c = first; c < last; ++c) {
-        NarrowChunk& chunk = D.chunks[c];
-        chunk.contacts.clear();
-        chunk.extras.clear();
-        collideChunk(c, {chunk.contacts, chunk.extras, chunk.manifolds});
-      }
-    });
+    workers.parallelFor(
+        chunkCount,
+        [&](std::size_t first, std::size_t last) {
+          for (std::size_t c = first; c < last; ++c) {
+            NarrowChunk& chunk = D.chunks[c];
+            chunk.contacts.clear();
+            chunk.extras.clear();
+            collideChunk(c, {chunk.contacts, chunk.extras, chunk.manifolds});
+          }
+        },
+        4, 8);
     // Joined in chunk order: each chunk copies into its place.
     D.chunkOffsets.resize(chunkCount + 1);
     D.chunkOffsets[0] = 0;
@@ -344,16 +349,21 @@ void updateContacts(RigidBodyData& D, Real dt, const ContactTuning& tuning, Step
       D.chunkOffsets[c + 1] = D.chunkOffsets[c] + D.chunks[c].contacts.size();
     D.contacts.resize(D.chunkOffsets[chunkCount]);
     D.extras.resize(D.chunkOffsets[chunkCount]);
-    workers.parallelFor(chunkCount, 4, [&](std::size_t first, std::size_t last) {
-      for (std::size_t c = first; c < last; ++c) {
-        const auto at = std::ptrdiff_t(D.chunkOffsets[c]);
-        std::copy(D.chunks[c].contacts.begin(), D.chunks[c].contacts.end(),
-                  D.contacts.begin() + at);
-        std::copy(D.chunks[c].extras.begin(), D.chunks[c].extras.end(), D.extras.begin() + at);
-      }
-    });
+    workers.parallelFor(
+        chunkCount,
+        [&](std::size_t first, std::size_t last) {
+          for (std::size_t c = first; c < last; ++c) {
+            const auto at = std::ptrdiff_t(D.chunkOffsets[c]);
+            std::copy(D.chunks[c].contacts.begin(), D.chunks[c].contacts.end(),
+                      D.contacts.begin() + at);
+            std::copy(D.chunks[c].extras.begin(), D.chunks[c].extras.end(), D.extras.begin() + at);
+          }
+        },
+        16);
   } else {
     // In sequence the chunks append straight to the step's lists, in the same order.
+    D.contacts.clear();
+    D.extras.clear();
     for (std::size_t c = 0; c < chunkCount; ++c)
       collideChunk(c, {D.contacts, D.extras, D.manifolds});
   }

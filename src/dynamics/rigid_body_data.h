@@ -121,7 +121,14 @@ struct ContactExtra {
 };
 
 // What the narrow phase found for one chunk of pairs.
-struct NarrowChunk {
+// One worker's output, alone on its cache lines: neighbouring chunks are filled by different
+// workers, and their vectors' headers change with every push.
+template <class T>
+struct alignas(64) ChunkOf {
+  std::vector<T> items;
+};
+
+struct alignas(64) NarrowChunk {
   std::vector<ContactInfo> contacts;
   std::vector<ContactExtra> extras;
   std::vector<ContactManifold> manifolds;  // scratch for collide()
@@ -189,12 +196,12 @@ struct RigidBodyData {
   std::vector<ProxyPair> mergedPairs;
   bool pairsDirty = true;
   std::vector<ProxyPair> proxyPairs;
-  std::vector<std::vector<ProxyPair>> pairChunks;  // the parallel queries' output
+  std::vector<ChunkOf<ProxyPair>> pairChunks;  // the parallel queries' output
   std::vector<Aabb> proxyBoxes;  // per shape slot: the new bounds of an awake body's proxy
   using ShapePair = std::pair<std::uint32_t, std::uint32_t>;
   std::vector<ShapePair> pairs;
-  std::vector<ShapePair> planePairs;  // scratch: the planes' pairs before the merge
-  std::vector<std::vector<ShapePair>> shapePairChunks;  // the parallel filters' output
+  std::vector<ShapePair> planePairs;                // scratch: the planes' pairs before the merge
+  std::vector<ChunkOf<ShapePair>> shapePairChunks;  // the parallel filters' output
   std::vector<std::pair<std::uint32_t, std::uint32_t>> mergedShapePairs;  // scratch of the merge
   // Per shape slot, refreshed at each step's start: what the pair filter and the narrow phase
   // read of a shape and its body for every candidate pair, in a small record instead of the

@@ -100,15 +100,18 @@ void StepWorkers::runBlocks(std::uint32_t epoch) {
   void* const ctx = ctx_.load(std::memory_order_acquire);
   const std::uint32_t blocks = blocks_.load(std::memory_order_acquire);
   std::uint64_t word = claim_.load(std::memory_order_acquire);
+  std::uint32_t ran = 0;
   for (;;) {
-    if (std::uint32_t(word >> 32) != epoch || std::uint32_t(word) >= blocks) return;
+    if (std::uint32_t(word >> 32) != epoch || std::uint32_t(word) >= blocks) break;
     if (claim_.compare_exchange_weak(word, word + 1, std::memory_order_acq_rel,
                                      std::memory_order_acquire)) {
       fn(ctx, std::uint32_t(word));
-      done_.fetch_add(1, std::memory_order_release);
+      ++ran;
       ++word;  // the expected word of the next claim; a failed exchange corrects it
     }
   }
+  // Once per worker and stage, not per block: the count is a contended cache line.
+  if (ran > 0) done_.fetch_add(ran, std::memory_order_release);
 }
 
 }  // namespace inertia::detail
