@@ -1,8 +1,10 @@
 // Rigid bodies against Bullet 3 (btDiscreteDynamicsWorld: btDbvtBroadphase,
 // btSequentialImpulseConstraintSolver with its default 10 iterations) and, when it is installed,
-// ODE (hash space, dWorldQuickStep with its default 20 iterations) in the same run, single
-// thread, sleeping off in all, 600 steps of 1/60 s. The scenes come from the shared builders'
-// BodyDesc lists and are built from the same list in every engine:
+// ODE (hash space, dWorldQuickStep with its default 20 iterations) in the same run, the peers on
+// one thread, sleeping off in all, 600 steps of 1/60 s. Inertia runs at 1 thread beside them,
+// then at 2 threads and at all cores (or the counts of --threads 1,2,16), with its speed-up over
+// 1 thread and a check that every count ends with the same bits. The scenes come from the shared
+// builders' BodyDesc lists and are built from the same list in every engine:
 // - pyramid: a 2D-style wall of unit boxes, base 40 (820 boxes), on a ground plane;
 // - pile: 4,000 spheres (r 0.5 m) in 20 x 20 columns of 10 layers, spacing 1.1 m, falling into
 //   a 25 x 25 m box (ground plane + 4 static box walls);
@@ -17,6 +19,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -29,6 +32,7 @@
 
 #include "inertia/world/builders.h"
 #include "inertia/world/world.h"
+#include "thread_sweep.h"
 
 using namespace inertia;
 using Clock = std::chrono::steady_clock;
@@ -110,7 +114,12 @@ struct Result {
   int outsideBox = 0;          // pile: bodies outside the walls
   int nonFinite = 0;
   double kineticEnergy = 0;  // J
+  // Inertia only: every dynamic body's position, orientation (x, y, z, w), linear and angular
+  // velocity, kStateSize Reals a body, which every thread count must reproduce bit for bit.
+  std::vector<Real> finalState;
 };
+
+constexpr std::size_t kStateSize = 13;
 
 // The checks on final positions, shared by the engines.
 void checkPositions(const Scene& scene, const std::vector<Vec3>& final, Result& r) {
@@ -129,8 +138,8 @@ void checkPositions(const Scene& scene, const std::vector<Vec3>& final, Result& 
   }
 }
 
-Result runInertia(const Scene& scene, const SolverSettings& solver) {
-  World world({.solver = solver, .threads = 1, .sleeping = false});
+Result runInertia(const Scene& scene, const SolverSettings& solver, int threads) {
+  World world({.solver = solver, .threads = threads, .sleeping = false});
   for (const BodyDesc& d : scene.statics) addBody(world, d);
   std::vector<BodyId> ids;
   ids.reserve(scene.dynamics.size());
@@ -147,7 +156,15 @@ Result runInertia(const Scene& scene, const SolverSettings& solver) {
   r.phases = world.phaseTimes();
   r.hasPhases = true;
   std::vector<Vec3> final;
-  for (BodyId id : ids) final.push_back(world.transform(id).p);
+  for (BodyId id : ids) {
+    const Transform x = world.transform(id);
+    const Vec3 v = world.linearVelocity(id), w = world.angularVelocity(id);
+    final.push_back(x.p);
+    r.finalState.insert(r.finalState.end(), x.p.data(), x.p.data() + 3);
+    r.finalState.insert(r.finalState.end(), x.q.coeffs().data(), x.q.coeffs().data() + 4);
+    r.finalState.insert(r.finalState.end(), v.data(), v.data() + 3);
+    r.finalState.insert(r.finalState.end(), w.data(), w.data() + 3);
+  }
   checkPositions(scene, final, r);
   r.kineticEnergy = double(world.rigidBodies().kineticEnergy());
   return r;
@@ -188,9 +205,9 @@ Result runBullet(const Scene& scene) {
     btVector3 inertia(0, 0, 0);
     if (!isStatic) shapes.back()->calculateLocalInertia(mass, inertia);
     const Quat& q = d.settings.orientation;
-    motions.push_back(std::make_unique<btDefaultMotionState>(
-        btTransform(btQuaternion(btScalar(q.x()), btScalar(q.y()), btScalar(q.z()), btScalar(q.w())),
-                    bt(d.settings.position))));
+    motions.push_back(std::make_unique<btDefaultMotionState>(btTransform(
+        btQuaternion(btScalar(q.x()), btScalar(q.y()), btScalar(q.z()), btScalar(q.w())),
+        bt(d.settings.position))));
     btRigidBody::btRigidBodyConstructionInfo info(mass, motions.back().get(), shapes.back().get(),
                                                   inertia);
     // Bullet multiplies the two bodies' coefficients; sqrt on each gives the geometric mean,
@@ -221,7 +238,8 @@ Result runBullet(const Scene& scene) {
     final.emplace_back(Real(p.x()), Real(p.y()), Real(p.z()));
     const btVector3 v = b->getLinearVelocity(), w = b->getAngularVelocity();
     const btVector3 iw = b->getInvInertiaTensorWorld().inverse() * w;
-    r.kineticEnergy += 0.5 * double(1 / b->getInvMass()) * double(v.length2()) + 0.5 * double(w.dot(iw));
+    r.kineticEnergy +=
+        0.5 * double(1 / b->getInvMass()) * double(v.length2()) + 0.5 * double(w.dot(iw));
   }
   checkPositions(scene, final, r);
   for (auto& b : bodies) world.removeRigidBody(b.get());
@@ -334,12 +352,24 @@ Result runOde(const Scene& scene) {
 }
 #endif
 
-void printRow(const Scene& scene, const char* engine, const Result& r) {
+// Inertia's mean ms per step in each phase, "-" for the peers.
+std::string phaseSplit(const Result& r) {
+  if (!r.hasPhases) return "-";
   const double ms = 1e3 / kSteps;
-  char split[96] = "-";
-  if (r.hasPhases)
-    std::snprintf(split, sizeof split, "%.2f / %.2f / %.2f / %.2f", ms * r.phases.broadPhase,
-                  ms * r.phases.narrowPhase, ms * r.phases.solver, ms * r.phases.integration);
+  char split[96];
+  std::snprintf(split, sizeof split, "%.2f / %.2f / %.2f / %.2f", ms * r.phases.broadPhase,
+                ms * r.phases.narrowPhase, ms * r.phases.solver, ms * r.phases.integration);
+  return split;
+}
+
+void printTableHeader() {
+  std::printf(
+      "| scene | engine | bodies | ms/step | Inertia broad / narrow / solver / integ. ms | "
+      "max disp. m | below -1 m | outside box | non-finite | final KE J |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+}
+
+void printRow(const Scene& scene, const char* engine, const Result& r) {
   char disp[48] = "-";  // only the pyramid should stay where it was built
   if (scene.name == "pyramid")
     std::snprintf(disp, sizeof disp, "%.3f (%s)", r.maxDisplacement,
@@ -347,50 +377,126 @@ void printRow(const Scene& scene, const char* engine, const Result& r) {
   char outside[16] = "-";
   if (scene.name == "pile") std::snprintf(outside, sizeof outside, "%d", r.outsideBox);
   std::printf("| %s | %s | %zu | %.2f | %s | %s | %d | %s | %d | %.4g |\n", scene.name.c_str(),
-              engine, scene.dynamics.size(), r.msPerStep, split, disp, r.fellThrough, outside,
-              r.nonFinite, r.kineticEnergy);
+              engine, scene.dynamics.size(), r.msPerStep, phaseSplit(r).c_str(), disp,
+              r.fellThrough, outside, r.nonFinite, r.kineticEnergy);
   std::fflush(stdout);
+}
+
+// One Inertia configuration at every thread count, runs[k] at counts[k] (counts[0] is 1).
+struct ThreadRuns {
+  std::string label;
+  SolverSettings solver;
+  std::vector<Result> runs;
+};
+
+void printThreadTable(const Scene& scene, const std::vector<int>& counts,
+                      const std::vector<ThreadRuns>& configs) {
+  std::printf(
+      "\n| %s: Inertia | threads | ms/step | speed-up vs 1 thread | broad / narrow / solver / "
+      "integ. ms |\n",
+      scene.name.c_str());
+  std::printf("|---|---|---|---|---|\n");
+  for (const ThreadRuns& c : configs)
+    for (std::size_t k = 0; k < counts.size(); ++k)
+      std::printf("| %s | %d | %.2f | %.2f | %s |\n", c.label.c_str(), counts[k],
+                  c.runs[k].msPerStep, c.runs[0].msPerStep / c.runs[k].msPerStep,
+                  phaseSplit(c.runs[k]).c_str());
+}
+
+// Compares every thread count's final state with 1 thread's, byte for byte; prints "same bits"
+// or a loud line naming the first body that differs. Returns whether all were the same.
+bool checkSameBits(const Scene& scene, const std::vector<int>& counts, const ThreadRuns& c) {
+  const std::vector<Real>& ref = c.runs[0].finalState;
+  bool same = true;
+  for (std::size_t k = 1; k < counts.size(); ++k) {
+    const std::vector<Real>& s = c.runs[k].finalState;
+    std::size_t differ = 0, first = 0;
+    for (std::size_t i = 0; i < ref.size() / kStateSize; ++i) {
+      if (std::memcmp(&ref[i * kStateSize], &s[i * kStateSize], kStateSize * sizeof(Real)) == 0)
+        continue;
+      if (differ++ == 0) first = i;
+    }
+    if (differ == 0) continue;
+    same = false;
+    // Positions at offset 0 of a body's state, linear velocities at 7.
+    const Real* a = &ref[first * kStateSize];
+    const Real* b = &s[first * kStateSize];
+    const double dx = (Eigen::Map<const Vec3>(b) - Eigen::Map<const Vec3>(a)).norm();
+    const double dv = (Eigen::Map<const Vec3>(b + 7) - Eigen::Map<const Vec3>(a + 7)).norm();
+    std::printf(
+        "*** DIFFERENT BITS *** %s, %s: at %d threads %zu of %zu bodies end otherwise than at 1 "
+        "thread (first: body %zu, position off by %.3g m, velocity by %.3g m/s)\n",
+        scene.name.c_str(), c.label.c_str(), counts[k], differ, ref.size() / kStateSize, first, dx,
+        dv);
+  }
+  if (same) {
+    bench::BitHash hash;
+    hash.add(std::span<const Real>(ref));
+    std::printf(
+        "%s, %s: same bits at %s threads (final positions, orientations and velocities of the %zu "
+        "bodies, FNV-1a %016llx)\n",
+        scene.name.c_str(), c.label.c_str(), bench::countList(counts).c_str(),
+        ref.size() / kStateSize, static_cast<unsigned long long>(hash.value()));
+  }
+  std::fflush(stdout);
+  return same;
 }
 
 }  // namespace
 
-// Arguments, all optional: scene names to run (default: all three).
+// Arguments, all optional: scene names to run (default: all three); --threads 1,2,16 to choose
+// Inertia's thread counts (default: 1, 2 and all cores; 1 is always run).
 int main(int argc, char** argv) {
+  const std::vector<int> counts = bench::threadCounts(argc, argv);
   std::vector<std::string> only(argv + 1, argv + argc);
 #ifdef INERTIA_BENCH_ODE
   dInitODE2(0);
 #endif
   std::printf(
-      "rigid bodies: %d steps of 1/60 s, 1 thread, sleeping off, Real = %s, Bullet btScalar = "
-      "%s; friction 0.6, restitution 0, density 1000 kg/m^3; Inertia's contact kernels: %s "
-      "(INERTIA_SIMD=avx2 or sse2 caps every kernel's set)\n\n",
-      kSteps, sizeof(Real) == 4 ? "float" : "double", sizeof(btScalar) == 4 ? "float" : "double",
+      "rigid bodies: %d steps of 1/60 s, peers on 1 thread, Inertia on 1 thread beside them, then "
+      "on %s threads below each scene (%d cores), sleeping off, Real = %s, Bullet btScalar = %s; "
+      "friction 0.6, restitution 0, density 1000 kg/m^3; Inertia's contact kernels: %s "
+      "(INERTIA_SIMD=avx2 or sse2 caps every kernel's set)\n",
+      kSteps, bench::countList(counts).c_str(), bench::allCores(),
+      sizeof(Real) == 4 ? "float" : "double", sizeof(btScalar) == 4 ? "float" : "double",
       contactSolverInstructionSet());
-  std::printf(
-      "| scene | engine | bodies | ms/step | Inertia broad / narrow / solver / integ. ms | "
-      "max disp. m | below -1 m | outside box | non-finite | final KE J |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  int differentBits = 0;
   for (const Scene& scene : {pyramidScene(), pileScene(), rainScene()}) {
     if (!only.empty() && std::find(only.begin(), only.end(), scene.name) == only.end()) continue;
     const WorldSettings defaults;
-    const std::string label = "Inertia soft_step (defaults: " +
-                              std::to_string(defaults.substeps) + " substeps, " +
-                              std::to_string(defaults.solver.iterations) + " it. + " +
-                              std::to_string(defaults.solver.relaxIterations) + " relax)";
-    printRow(scene, label.c_str(), runInertia(scene, {}));
-    printRow(scene, "Inertia soft_step (4 substeps, 2 it. + 1 relax)",
-             runInertia(scene, {.iterations = 2}));
+    std::vector<ThreadRuns> configs = {
+        {"Inertia soft_step (defaults: " + std::to_string(defaults.substeps) + " substeps, " +
+             std::to_string(defaults.solver.iterations) + " it. + " +
+             std::to_string(defaults.solver.relaxIterations) + " relax)",
+         {},
+         {}},
+        {"Inertia soft_step (4 substeps, 2 it. + 1 relax)", {.iterations = 2}, {}}};
+    // Inertia on 1 thread against the single-threaded peers, as a table of its own per scene so
+    // that the scene's thread counts can follow it.
+    std::printf("\n");
+    printTableHeader();
+    for (ThreadRuns& c : configs) {
+      c.runs.push_back(runInertia(scene, c.solver, 1));
+      printRow(scene, c.label.c_str(), c.runs[0]);
+    }
     printRow(scene, "Bullet SI (10 it., split impulse)", runBullet(scene));
 #ifdef INERTIA_BENCH_ODE
     printRow(scene, "ODE QuickStep (20 it.)", runOde(scene));
 #endif
+    for (ThreadRuns& c : configs)
+      for (std::size_t k = 1; k < counts.size(); ++k)
+        c.runs.push_back(runInertia(scene, c.solver, counts[k]));
+    printThreadTable(scene, counts, configs);
+    for (const ThreadRuns& c : configs) differentBits += checkSameBits(scene, counts, c) ? 0 : 1;
   }
   std::printf(
       "\nms/step: mean wall-clock time of the %d steps. Inertia's phase split from "
-      "World::phaseTimes(). Bullet: btDiscreteDynamicsWorld, btDbvtBroadphase, "
-      "btSequentialImpulseConstraintSolver (defaults: 10 iterations, split impulse, "
-      "warm starting 0.85), stepSimulation(1/60, 0), DISABLE_DEACTIVATION.%s Pyramid max disp.: "
-      "the largest final displacement of a box from its start; it stands when <= 0.25 m.\n",
+      "World::phaseTimes(); its speed-up is its ms/step on 1 thread over that on the count "
+      "(WorldSettings::threads, the size of its TBB arena). Bullet: btDiscreteDynamicsWorld, "
+      "btDbvtBroadphase, btSequentialImpulseConstraintSolver (defaults: 10 iterations, split "
+      "impulse, warm starting 0.85), stepSimulation(1/60, 0), DISABLE_DEACTIVATION.%s Pyramid "
+      "max disp.: the largest final displacement of a box from its start; it stands when <= "
+      "0.25 m.\n",
       kSteps,
 #ifdef INERTIA_BENCH_ODE
       " ODE (double): dHashSpace, up to 4 contacts a pair, dContactApprox1 with mu 0.6, "
@@ -399,6 +505,11 @@ int main(int argc, char** argv) {
       " ODE not built (libode-dev not found)."
 #endif
   );
+  if (differentBits > 0)
+    std::printf(
+        "\n*** DIFFERENT BITS *** in %d of Inertia's configurations: its result depends on "
+        "the thread count (DESIGN.md section 7 says it must not)\n",
+        differentBits);
 #ifdef INERTIA_BENCH_ODE
   dCloseODE();
 #endif

@@ -1,0 +1,90 @@
+// Shared by the benchmarks that time Inertia at several thread counts in one run: the counts to
+// run and a hash of a final state's bits, to show that every count computed the same bytes
+// (DESIGN.md section 7: results independent of thread count).
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <tbb/info.h>
+
+namespace inertia::bench {
+
+// Every core this process may run on: TBB's count honours the affinity mask (taskset, cgroups),
+// which std::thread::hardware_concurrency() does not, and it is what a world of 0 threads uses.
+inline int allCores() { return std::max(1, tbb::info::default_concurrency()); }
+
+// The thread counts to time, ascending, each once, 1 always first (the speed-ups are against it).
+// "--threads 1,2,16" (or "--threads=1,2,16") in argv chooses them, and is removed from argv so
+// that the benchmark's own arguments stay where they were; the default is 1, 2 and all cores.
+// Exits with a message on a malformed list.
+inline std::vector<int> threadCounts(int& argc, char** argv) {
+  std::vector<int> counts = {1, 2, allCores()};
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view arg = argv[i];
+    std::string list;
+    int used = 0;
+    if (arg == "--threads") {
+      list = i + 1 < argc ? argv[i + 1] : "";
+      used = std::min(2, argc - i);
+    } else if (arg.starts_with("--threads=")) {
+      list = arg.substr(10);
+      used = 1;
+    } else {
+      continue;
+    }
+    counts = {1};
+    for (const char* s = list.c_str();; ++s) {
+      char* end = nullptr;
+      const long n = std::strtol(s, &end, 10);
+      if (end == s || n < 1 || n > 1024 || (*end != ',' && *end != '\0')) {
+        std::fprintf(stderr,
+                     "--threads: expected counts in 1..1024 separated by commas, got '%s'\n",
+                     list.c_str());
+        std::exit(2);
+      }
+      counts.push_back(int(n));
+      if (*end == '\0') break;
+      s = end;
+    }
+    std::copy(argv + i + used, argv + argc + 1, argv + i);  // argv[argc] is null
+    argc -= used;
+    --i;
+  }
+  std::sort(counts.begin(), counts.end());
+  counts.erase(std::unique(counts.begin(), counts.end()), counts.end());
+  return counts;
+}
+
+// "1, 2, 16": thread counts for the reports.
+inline std::string countList(const std::vector<int>& counts) {
+  std::string list;
+  for (int t : counts) list += (list.empty() ? "" : ", ") + std::to_string(t);
+  return list;
+}
+
+// FNV-1a (64 bits) over the bytes of a state; -0 and +0, or NaNs of other payloads, hash apart, as
+// they should when the question is whether two runs computed the same bits.
+class BitHash {
+ public:
+  template <class T>
+  void add(std::span<const T> values) {
+    const auto* bytes = reinterpret_cast<const unsigned char*>(values.data());
+    for (std::size_t i = 0; i < values.size_bytes(); ++i) {
+      hash_ ^= bytes[i];
+      hash_ *= 0x100000001b3ull;
+    }
+  }
+  std::uint64_t value() const { return hash_; }
+
+ private:
+  std::uint64_t hash_ = 0xcbf29ce484222325ull;
+};
+
+}  // namespace inertia::bench
