@@ -72,6 +72,9 @@ void StepWorkers::post(BlockFn fn, void* ctx, std::uint32_t blocks) {
   runBlocks(epoch);
   int spins = 0;
   while (done_.load(std::memory_order_acquire) != blocks) backoff(spins);
+  // A block that threw on any worker: the stage is over (its blocks all counted), so the
+  // exception goes on from the main worker, which ends the step.
+  if (failed_.load(std::memory_order_acquire)) std::rethrow_exception(error_);
 }
 
 void StepWorkers::helperLoop() {
@@ -105,7 +108,11 @@ void StepWorkers::runBlocks(std::uint32_t epoch) {
     if (std::uint32_t(word >> 32) != epoch || std::uint32_t(word) >= blocks) break;
     if (claim_.compare_exchange_weak(word, word + 1, std::memory_order_acq_rel,
                                      std::memory_order_acquire)) {
-      fn(ctx, std::uint32_t(word));
+      try {
+        fn(ctx, std::uint32_t(word));
+      } catch (...) {
+        if (!failed_.exchange(true, std::memory_order_acq_rel)) error_ = std::current_exception();
+      }
       ++ran;
       ++word;  // the expected word of the next claim; a failed exchange corrects it
     }

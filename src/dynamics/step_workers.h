@@ -18,6 +18,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <exception>
 #include <type_traits>
 #include <utility>
 
@@ -102,6 +103,10 @@ class StepWorkers {
   alignas(64) std::atomic<std::uint32_t> done_{0};
   // The last posted epoch, on which idle helpers sleep (a futex).
   alignas(64) std::atomic<std::uint32_t> posted_{0};
+  // The first exception a block threw, on whichever worker; rethrown by the main worker when
+  // the stage is done.
+  std::atomic<bool> failed_{false};
+  std::exception_ptr error_;
 };
 
 }  // namespace inertia::detail

@@ -67,6 +67,26 @@ TEST(StepWorkers, StagesSeeTheWritesOfTheStagesBefore) {
   EXPECT_EQ(chain(&four), sequence);
 }
 
+// An exception from a block, on whichever worker runs it, ends the step once the stage is done
+// and reaches the caller: no hang.
+TEST(StepWorkers, BlockExceptionEndsTheStep) {
+  for (int threads : {1, 2, 4}) {
+    tbb::task_arena arena(threads);
+    int stagesAfter = 0;
+    EXPECT_THROW(StepWorkers::run(&arena,
+                                  [&](StepWorkers& w) {
+                                    w.parallelFor(1000, 1, [](std::size_t first, std::size_t last) {
+                                      if (first <= 777 && 777 < last)
+                                        throw std::runtime_error("block");
+                                    });
+                                    ++stagesAfter;
+                                  }),
+                 std::runtime_error)
+        << threads << " threads";
+    EXPECT_EQ(stagesAfter, 0);
+  }
+}
+
 // An exception from the driver reaches the caller after the helpers have left: no hang, and
 // the arena works for the next step.
 TEST(StepWorkers, DriverExceptionEndsTheStep) {
