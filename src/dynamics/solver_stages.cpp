@@ -208,9 +208,10 @@ void prepareContacts(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
   const ContactTuning& tuning = s.contact;
   D.solverIndex.assign(D.bodies.size(), -1);
   D.solverToBody.clear();
-  // The constraints and their solver bodies in contact order, in sequence (cheap); the rest
-  // of each constraint in parallel.
+  // The constraints, their solver bodies and graph edges in contact order, in sequence (cheap);
+  // the rest of each constraint in parallel.
   D.constraints.clear();
+  D.contactEdges.clear();
   for (std::size_t ci = 0; ci < D.contacts.size(); ++ci) {
     const ContactInfo& info = D.contacts[ci];
     const BodyRecord& ba = D.bodies[info.bodyA.index];
@@ -222,6 +223,7 @@ void prepareContacts(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
     c.contactIndex = static_cast<int>(ci);
     c.bodyA = solverSlot(D, info.bodyA.index);
     c.bodyB = solverSlot(D, info.bodyB.index);
+    D.contactEdges.push_back({c.bodyA, c.bodyB});
   }
   prepareSolverBodies(D, workers);
   const Real h = dt / Real(s.substeps);
@@ -235,9 +237,6 @@ void prepareContacts(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
           prepareContact(D, s, D.constraints[k], soft, staticSoft);
       },
       32);
-  D.contactEdges.resize(D.constraints.size());
-  for (std::size_t k = 0; k < D.constraints.size(); ++k)
-    D.contactEdges[k] = {D.constraints[k].bodyA, D.constraints[k].bodyB};
   if (isLcp(s)) {
     for (ContactConstraint& c : D.constraints) {
       const SolverBody none{};
