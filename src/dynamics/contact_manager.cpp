@@ -178,6 +178,29 @@ void matchWarmStart(Data& D, const ContactTuning& tuning, StepWorkers& workers) 
   });
 }
 
+// The narrow phase's pairs sorted by shape index, each once, from three runs: the kept pairs,
+// the new ones (both in proxy order, which follows the shape order unless proxies were
+// recycled: usually sorted already) and the planes'. Each run is sorted when it is not, then
+// they are merged into kept buffers (std::inplace_merge would allocate one every step; sorting
+// the whole list every step cost 12% of the pile scene, and sorting the new and plane pairs
+// as one run fell back to heap sort in the rain's waves of reinsertions).
+void sortPairs(Data& D, std::size_t keptCount) {
+  const auto sortRun = [](auto first, auto last) {
+    if (!std::is_sorted(first, last)) std::sort(first, last);
+  };
+  const auto keptEnd = D.pairs.begin() + std::ptrdiff_t(keptCount);
+  sortRun(D.pairs.begin(), keptEnd);
+  sortRun(keptEnd, D.pairs.end());
+  sortRun(D.planePairs.begin(), D.planePairs.end());
+  D.mergedShapePairs.clear();
+  std::merge(D.pairs.begin(), keptEnd, keptEnd, D.pairs.end(),
+             std::back_inserter(D.mergedShapePairs));
+  D.pairs.clear();
+  std::merge(D.mergedShapePairs.begin(), D.mergedShapePairs.end(), D.planePairs.begin(),
+             D.planePairs.end(), std::back_inserter(D.pairs));
+  D.pairs.erase(std::unique(D.pairs.begin(), D.pairs.end()), D.pairs.end());
+}
+
 }  // namespace
 
 void updateBroadPhase(RigidBodyData& D, Real dt, const ContactTuning& tuning,
@@ -228,19 +251,7 @@ void updateBroadPhase(RigidBodyData& D, Real dt, const ContactTuning& tuning,
                   if (n.dot(c) - offset - n.cwiseAbs().dot(e) <= 0)
                     addPair(plane, D.broadPhase.userData(proxy), out);
                 });
-  D.pairs.insert(D.pairs.end(), D.planePairs.begin(), D.planePairs.end());
-  // Sorted by shape index. The kept pairs come sorted by proxy id, which follows the shape
-  // order unless proxies were recycled: usually only the new and the plane pairs need
-  // sorting, and a merge. (Sorting the whole list every step cost 12% of the pile scene.)
-  const auto treeEnd = D.pairs.begin() + std::ptrdiff_t(treeCount);
-  if (!std::is_sorted(D.pairs.begin(), treeEnd)) std::sort(D.pairs.begin(), treeEnd);
-  std::sort(treeEnd, D.pairs.end());
-  // Merged into a kept buffer (std::inplace_merge would allocate one every step).
-  D.mergedShapePairs.clear();
-  std::merge(D.pairs.begin(), treeEnd, treeEnd, D.pairs.end(),
-             std::back_inserter(D.mergedShapePairs));
-  std::swap(D.pairs, D.mergedShapePairs);
-  D.pairs.erase(std::unique(D.pairs.begin(), D.pairs.end()), D.pairs.end());
+  sortPairs(D, treeCount);
 }
 
 void updateContacts(RigidBodyData& D, Real dt, const ContactTuning& tuning, StepWorkers& workers) {
