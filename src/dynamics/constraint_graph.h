@@ -37,7 +37,7 @@ struct ConstraintColoring {
   // Scratch of colorGraph(), kept so that colouring a step does not allocate.
   std::vector<std::uint64_t> used;
   std::vector<std::uint8_t> color;
-  std::vector<GraphEdge> edges;
+  std::vector<GraphEdge> edges;  // colorConstraints()'s edges (the step makes its own)
 };
 
 /// Colours the joints, then the contacts, greedily in their order (Box2D v3): each takes the

@@ -263,7 +263,7 @@ void updateContacts(RigidBodyData& D, Real dt, const ContactTuning& tuning, Step
   std::swap(D.previous, D.contacts);
   std::swap(D.previousExtras, D.extras);
   // The pairs in fixed chunks (boundaries independent of the thread count), each collided into
-  // its own buffers on the arena, then joined in chunk order: the same contacts in the same
+  // its own buffers on the workers, then joined in chunk order: the same contacts in the same
   // order whatever the number of threads.
   constexpr std::size_t kPairChunk = 32;
   const std::size_t chunkCount = (D.pairs.size() + kPairChunk - 1) / kPairChunk;

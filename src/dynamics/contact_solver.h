@@ -175,7 +175,7 @@ struct WideInertia {
 };
 
 /// The contact constraints of a step packed into bundles colour by colour: the bundles of a
-/// colour share no moving body, so they run in parallel on an arena with the same result as
+/// colour share no moving body, so the step's workers run them in parallel with the same result as
 /// in sequence, and the kLanes constraints of a bundle run in the lanes of SIMD registers
 /// (AVX-512 or AVX2 when the processor has it, else SSE2; all give the same bits). The overflow
 /// colour is packed one constraint per bundle and runs in sequence. A lane computes exactly

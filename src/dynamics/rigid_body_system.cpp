@@ -504,7 +504,6 @@ Vec3 RigidBodySystem::angularMomentum(const Vec3& about) const {
 }
 
 void RigidBodySystem::step(Real dt, const DynamicsSettings& s, ThreadPool* pool) {
-  require(std::isfinite(dt) && dt > 0, "RigidBodySystem::step: dt must be finite and > 0 (s)");
   detail::StepWorkers::run(pool ? &pool->impl().arena : nullptr,
                            [&](detail::StepWorkers& workers) { step(dt, s, workers); });
 }

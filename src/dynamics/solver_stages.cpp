@@ -170,8 +170,9 @@ void solve(Data& D, const BiasMode& mode, int iterations, StepWorkers& workers) 
   for (int it = 0; it < iterations; ++it) D.bundles.solve(D.solverBodies, mode, workers);
 }
 
+// soft_step's relaxation: the solve passes without the position bias (relaxMode.useBias off).
 void relax(Data& D, const BiasMode& relaxMode, int iterations, StepWorkers& workers) {
-  for (int it = 0; it < iterations; ++it) D.bundles.solve(D.solverBodies, relaxMode, workers);
+  solve(D, relaxMode, iterations, workers);
 }
 
 // The impulses into the contacts, for the next step's warm start and for the user.

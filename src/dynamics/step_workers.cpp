@@ -1,9 +1,11 @@
 #include "step_workers.h"
 
+#include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
 #include <exception>
 #include <thread>
+#include <utility>
 
 #if defined(__x86_64__) || defined(__i386__)
 #include <immintrin.h>
@@ -13,8 +15,9 @@ namespace inertia::detail {
 
 namespace {
 
-// Pauses before a helper sleeps: a few microseconds, more than the gap between two solver
-// stages, less than a serial stage such as the broad phase's tree update.
+// Pauses before a helper sleeps: tens of microseconds (a pause takes 10 to 150 cycles, by
+// processor), more than the gap between two solver stages, less than a long serial stage such
+// as the broad phase's tree update in a wave of reinsertions.
 constexpr int kSpins = 2000;
 
 // A short wait in a spin: pauses, then yields the core, so that a machine with more busy
@@ -41,10 +44,13 @@ void StepWorkers::start(tbb::task_arena* arena, DriverFn driver, void* ctx) {
   threads_ = n;
   arena->execute([&] {
     tbb::task_group group;
-    for (int i = 1; i < n; ++i) group.run([this] { helperLoop(); });
     std::exception_ptr error;
     try {
-      driver(ctx, *this);
+      for (int i = 1; i < n; ++i) group.run([this] { helperLoop(); });
+      // Isolated: a thread that waits on TBB work inside the step (a stage that runs a
+      // tbb::parallel_for of its own, a user's field) must not pick up a helper task that has
+      // not started, whose loop would only end with the step it is waiting in.
+      tbb::this_task_arena::isolate([&] { driver(ctx, *this); });
     } catch (...) {
       error = std::current_exception();
     }
@@ -74,7 +80,8 @@ void StepWorkers::post(BlockFn fn, void* ctx, std::uint32_t blocks) {
   while (done_.load(std::memory_order_acquire) != blocks) backoff(spins);
   // A block that threw on any worker: the stage is over (its blocks all counted), so the
   // exception goes on from the main worker, which ends the step.
-  if (failed_.load(std::memory_order_acquire)) std::rethrow_exception(error_);
+  if (failed_.exchange(false, std::memory_order_acq_rel))
+    std::rethrow_exception(std::exchange(error_, nullptr));
 }
 
 void StepWorkers::helperLoop() {
@@ -92,7 +99,7 @@ void StepWorkers::helperLoop() {
     }
     if (epoch == kExit) return;
     seen = epoch;
-    runBlocks(epoch);
+    tbb::this_task_arena::isolate([&] { runBlocks(epoch); });
   }
 }
 

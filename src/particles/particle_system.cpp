@@ -320,7 +320,6 @@ void ParticleSystem::springAccelerations(std::span<const Real> x, std::span<cons
 }
 
 void ParticleSystem::step(Real h, ThreadPool* pool) {
-  require(std::isfinite(h) && h > 0, "ParticleSystem::step: h must be finite and > 0 (s)");
   detail::StepWorkers::run(pool ? &pool->impl().arena : nullptr,
                            [&](detail::StepWorkers& workers) { step(h, workers); });
 }

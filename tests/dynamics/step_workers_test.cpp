@@ -4,10 +4,15 @@
 #include "dynamics/step_workers.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <atomic>
+#include <chrono>
 #include <numeric>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 using inertia::detail::StepWorkers;
@@ -65,6 +70,31 @@ TEST(StepWorkers, StagesSeeTheWritesOfTheStagesBefore) {
   tbb::task_arena two(2), four(4);
   EXPECT_EQ(chain(&two), sequence);
   EXPECT_EQ(chain(&four), sequence);
+}
+
+// Blocks that run TBB work of their own (a user's field that is itself parallel) finish: a
+// worker waiting in its nested loop must not take up a helper that has not started, whose loop
+// would only end with the step it waits in (the step hung before the waits were isolated).
+TEST(StepWorkers, NestedTbbWorkInABlockDoesNotHang) {
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 3);
+  for (int step = 0; step < 20; ++step) {
+    tbb::task_arena arena(6);
+    std::atomic<long> sum{0};
+    StepWorkers::run(&arena, [&](StepWorkers& w) {
+      for (int s = 0; s < 5; ++s)
+        w.parallelFor(16, 1, [&](std::size_t, std::size_t) {
+          tbb::parallel_for(
+              tbb::blocked_range<int>(0, 16, 1),
+              [&](const tbb::blocked_range<int>& r) {
+                // Long enough that the waiting worker looks for other tasks meanwhile.
+                std::this_thread::sleep_for(std::chrono::microseconds(50));
+                sum += r.begin();
+              },
+              tbb::simple_partitioner());
+        });
+    });
+    ASSERT_EQ(sum.load(), 5 * 16 * (15 * 16 / 2)) << "step " << step;
+  }
 }
 
 // An exception from a block, on whichever worker runs it, ends the step once the stage is done
