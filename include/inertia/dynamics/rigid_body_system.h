@@ -107,7 +107,9 @@ struct ContactInfo {
   ShapeId shapeA;
   ShapeId shapeB;
   ContactManifold manifold;                  ///< As collide() made it, at the step's start.
-  std::array<Real, 4> normalImpulses{};      ///< Per point (N s), accumulated over the step.
+  /// Per point (N s): the last substep's, which warm-starts the next step (at rest, the
+  /// weight carried over one substep, m g dt / substeps).
+  std::array<Real, 4> normalImpulses{};
 };
 
 /// A contact that began or ended in the last step.
