@@ -83,6 +83,9 @@ void refreshFrames(Data& D, Real dt, const ContactTuning& tuning, StepWorkers& w
           BodyRecord& b = D.bodies[bi];
           if (!b.alive) continue;
           b.fast = isBullet(b, dt, tuning);
+          bool jointed = false;
+          for (std::uint32_t ji : b.joints)
+            jointed = jointed || (D.joints[ji].enabled && !D.joints[ji].collideConnected);
           for (std::uint32_t si : b.shapes)
             D.frames[si] = {D.shapePose(D.shapes[si]),
                             D.shapes[si].material,
@@ -93,6 +96,7 @@ void refreshFrames(Data& D, Real dt, const ContactTuning& tuning, StepWorkers& w
                             b.type,
                             b.awake,
                             b.fast,
+                            jointed,
                             D.shapes[si].radius};
           if (b.type == BodyType::Static || !b.awake) continue;
           const Vec3 displacement = b.v * dt;
@@ -216,6 +220,7 @@ void updateBroadPhase(RigidBodyData& D, Real dt, const ContactTuning& tuning,
     if (fa.body == fb.body) return;
     if (fa.bodyType != BodyType::Dynamic && fb.bodyType != BodyType::Dynamic) return;
     if (!fa.awake && !fb.awake) return;
+    if (fa.jointed && fb.jointed && D.jointPrevents(fa.body, fb.body)) return;
     out.emplace_back(a, b);
   };
   // Last step's pairs whose fat boxes still overlap, and their shape pairs, in one pass; then

@@ -197,9 +197,6 @@ SimdLevel setContactSimd(SimdLevel level) {
   return contactChoice().force(std::max(level, SimdLevel::Sse2));
 }
 
-// Bundles per block of a colour's parallel pass: about kColorGrain constraints.
-constexpr std::size_t kBundleGrain = std::max<std::size_t>(1, kColorGrain / kLanes);
-
 // A colour's bundles share no moving body, so the workers run them in blocks with the same
 // result as in sequence. The overflow group, whose bundles may share bodies, runs in sequence
 // on the main worker.
@@ -310,6 +307,15 @@ void ContactBundles::solve(std::vector<SolverBody>& bodies, const BiasMode& mode
   forColors(workers, [&](std::uint32_t first, std::size_t count) {
     k.solve(bundles_.data() + first, count, bodies.data(), mode);
   });
+}
+
+void ContactBundles::warmStart(SolverBody* bodies, std::uint32_t first, std::size_t count) const {
+  kernels().warmStart(bundles_.data() + first, count, bodies);
+}
+
+void ContactBundles::solve(SolverBody* bodies, const BiasMode& mode, std::uint32_t first,
+                           std::size_t count) {
+  kernels().solve(bundles_.data() + first, count, bodies, mode);
 }
 
 void ContactBundles::updateApproach(const std::vector<SolverBody>& bodies, StepWorkers& workers) {

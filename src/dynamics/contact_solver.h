@@ -15,6 +15,7 @@
 
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -97,6 +98,8 @@ struct BiasMode {
 /// Constraints per bundle: one AVX-512 register of Real (16 floats or 8 doubles). The SSE2
 /// and AVX2 kernels run a bundle in two slices of 32 bytes.
 inline constexpr int kLanes = int(64 / sizeof(Real));
+/// Bundles per block of a colour's parallel pass: about kColorGrain constraints.
+inline constexpr std::size_t kBundleGrain = std::max<std::size_t>(1, kColorGrain / kLanes);
 
 /// kLanes values, one per constraint of a bundle.
 struct alignas(64) WideReal {
@@ -207,6 +210,17 @@ class ContactBundles {
   void applyRestitution(std::vector<SolverBody>& bodies, Real threshold, StepWorkers& workers);
   /// Writes the impulses, approach speeds and largest impulses back into `cs`.
   void store(std::vector<ContactConstraint>& cs, StepWorkers& workers) const;
+
+  // Per group, for a solve loop that runs other constraints of each colour beside the
+  // contacts (solver_stages.cpp): the groups are the colouring's, the overflow last.
+  std::size_t groupCount() const { return groupOffsets_.empty() ? 0 : groupOffsets_.size() - 1; }
+  std::uint32_t groupBegin(std::size_t g) const { return groupOffsets_[g]; }
+  std::uint32_t groupEnd(std::size_t g) const { return groupOffsets_[g + 1]; }
+  /// Group g may share bodies between its bundles: it runs in sequence.
+  bool sequentialGroup(std::size_t g) const { return overflow_ && g + 1 == groupCount(); }
+  /// warmStart and solve on bundles [first, first + count) of one group.
+  void warmStart(SolverBody* bodies, std::uint32_t first, std::size_t count) const;
+  void solve(SolverBody* bodies, const BiasMode& mode, std::uint32_t first, std::size_t count);
 
   // The same, each on its own workers of `arena` (in sequence without one): for tests and the
   // LCP solvers' fallback.

@@ -51,31 +51,42 @@ void groupConstraints(std::span<const GraphEdge> edges, std::size_t bodyCount,
   }
 }
 
+namespace {
+
+// Calls f(a, b) with the body slots of every edge of the constraint graph: each contact and
+// each enabled joint (a joint to the world links nothing).
+template <class F>
+void forEachLink(const RigidBodyData& D, F f) {
+  for (const ContactInfo& c : D.contacts) f(c.bodyA.index, c.bodyB.index);
+  for (const JointRecord& j : D.joints)
+    if (j.alive && j.enabled && j.bodyA != kWorldBody) f(j.bodyA, j.bodyB);
+}
+
+}  // namespace
+
 void buildIslands(RigidBodyData& D) {
   const std::uint32_t bodyCount = static_cast<std::uint32_t>(D.bodies.size());
   // Union-find over contacts between dynamic bodies; one awake body (or a moving kinematic
   // body touching it) keeps its whole island awake.
   D.island.reset(bodyCount);
   D.islandAwake.assign(bodyCount, 0);
-  for (const ContactInfo& c : D.contacts) {
-    const BodyRecord& ba = D.bodies[c.bodyA.index];
-    const BodyRecord& bb = D.bodies[c.bodyB.index];
-    if (ba.type == BodyType::Dynamic && bb.type == BodyType::Dynamic)
-      D.island.unite(c.bodyA.index, c.bodyB.index);
-  }
+  forEachLink(D, [&](std::uint32_t a, std::uint32_t b) {
+    if (D.bodies[a].type == BodyType::Dynamic && D.bodies[b].type == BodyType::Dynamic)
+      D.island.unite(a, b);
+  });
   for (std::uint32_t bi = 0; bi < bodyCount; ++bi) {
     const BodyRecord& b = D.bodies[bi];
     if (b.alive && b.type == BodyType::Dynamic && b.awake) D.islandAwake[D.island.find(bi)] = 1;
   }
-  for (const ContactInfo& c : D.contacts) {
-    const BodyRecord& ba = D.bodies[c.bodyA.index];
-    const BodyRecord& bb = D.bodies[c.bodyB.index];
+  forEachLink(D, [&](std::uint32_t a, std::uint32_t b) {
+    const BodyRecord& ba = D.bodies[a];
+    const BodyRecord& bb = D.bodies[b];
     auto moving = [](const BodyRecord& k) {
       return k.type == BodyType::Kinematic && k.awake && (!k.v.isZero() || !k.w.isZero());
     };
-    if (moving(ba) && bb.type == BodyType::Dynamic) D.islandAwake[D.island.find(c.bodyB.index)] = 1;
-    if (moving(bb) && ba.type == BodyType::Dynamic) D.islandAwake[D.island.find(c.bodyA.index)] = 1;
-  }
+    if (moving(ba) && bb.type == BodyType::Dynamic) D.islandAwake[D.island.find(b)] = 1;
+    if (moving(bb) && ba.type == BodyType::Dynamic) D.islandAwake[D.island.find(a)] = 1;
+  });
   for (std::uint32_t bi = 0; bi < bodyCount; ++bi) {
     BodyRecord& b = D.bodies[bi];
     if (!b.alive || b.type != BodyType::Dynamic || b.awake) continue;
@@ -95,15 +106,15 @@ void sleepIslands(RigidBodyData& D, const DynamicsSettings& s) {
       Real& m = D.islandSleep[D.island.find(bi)];
       m = std::min(m, b.sleepTime);
     }
-    for (const ContactInfo& c : D.contacts) {  // touching a moving kinematic body: stay awake
-      for (auto [k, o] :
-           {std::pair{c.bodyA.index, c.bodyB.index}, std::pair{c.bodyB.index, c.bodyA.index}}) {
+    // Touching or jointed to a moving kinematic body: stay awake.
+    forEachLink(D, [&](std::uint32_t a, std::uint32_t b) {
+      for (auto [k, o] : {std::pair{a, b}, std::pair{b, a}}) {
         const BodyRecord& kin = D.bodies[k];
         if (kin.type == BodyType::Kinematic && (!kin.v.isZero() || !kin.w.isZero()) &&
             D.bodies[o].type == BodyType::Dynamic)
           D.islandSleep[D.island.find(o)] = 0;
       }
-    }
+    });
     for (std::uint32_t bi = 0; bi < bodyCount; ++bi) {
       BodyRecord& b = D.bodies[bi];
       if (!b.alive || b.type != BodyType::Dynamic || !b.awake) continue;

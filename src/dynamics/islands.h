@@ -1,7 +1,7 @@
 // Internal: islands. One union-find serves every grouping of the step:
 //   - sleeping and waking (buildIslands, sleepIslands): bodies linked by the constraint
-//     graph's edges between dynamic bodies (today the contacts). An island with one awake body,
-//     or touching a moving kinematic body, wakes whole; an island whose every body has rested
+//     graph's edges between dynamic bodies (contacts and enabled joints). An island with one awake
+//     body, or touching a moving kinematic body, wakes whole; an island whose every body has rested
 //     for ContactTuning::timeToSleep falls asleep whole;
 //   - the direct LCP solvers (groupConstraints): constraints linked through a shared solver
 //     body, each island one LCP. Built once a step into scratch kept from step to step.

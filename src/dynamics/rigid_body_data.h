@@ -16,6 +16,7 @@
 #include "inertia/dynamics/rigid_body_system.h"
 #include "inertia/ode/step.h"
 #include "islands.h"
+#include "joint_constraint.h"
 #include "lcp_contact.h"
 
 namespace inertia::detail {
@@ -65,6 +66,7 @@ struct BodyRecord {
   Real extent = 0;     // farthest shape point from the centre of mass (m)
   Real minExtent = 1;  // smallest half size of a shape (m)
   std::vector<std::uint32_t> shapes;
+  std::vector<std::uint32_t> joints;  // the joints attached to it (slots)
   std::string name;
 
   Mat3 invInertiaWorld() const {
@@ -185,6 +187,9 @@ struct RigidBodyData {
   std::vector<ContactEvent> endEvents;
   DynamicsTimes times;
   int liveBodies = 0;
+  std::vector<JointRecord> joints;
+  int liveJoints = 0;
+  std::vector<JointEvent> jointEvents;  // the joints that broke in the last step
 
   // Scratch, reused from step to step.
   std::vector<int> awakeProxies;  // the proxies of the awake bodies
@@ -216,6 +221,7 @@ struct RigidBodyData {
     BodyType bodyType = BodyType::Static;
     bool awake = false;
     bool fast = false;  // its body is continuous this step (BodyRecord::fast)
+    bool jointed = false;  // its body has an enabled joint whose bodies do not collide
     Real radius = std::numeric_limits<Real>::infinity();  // ShapeRecord::radius
   };
   std::vector<ShapeFrame> frames;
@@ -251,6 +257,8 @@ struct RigidBodyData {
   std::vector<SubstepMotion> motion;
   UnionFind island;                     // per body slot: the islands for sleeping and waking
   std::vector<GraphEdge> contactEdges;  // per constraint: its solver bodies
+  std::vector<JointConstraint> jointConstraints;  // this step's joints
+  std::vector<GraphEdge> jointEdges;              // per joint constraint: its solver bodies
   ConstraintIslands lcpIslands;         // the LCP solvers' islands of this step
   LcpWorkspace lcp;
   std::vector<std::uint8_t> islandAwake;
@@ -271,6 +279,16 @@ struct RigidBodyData {
     return !id.isNull() && id.index < bodies.size() && bodies[id.index].alive &&
            bodies[id.index].generation == id.generation;
   }
+  JointRecord& joint(JointId id) {
+    require(isValidJoint(id), "RigidBodySystem: invalid joint id (index " +
+                                  std::to_string(id.index) + ", generation " +
+                                  std::to_string(id.generation) + ")");
+    return joints[id.index];
+  }
+  bool isValidJoint(JointId id) const {
+    return !id.isNull() && id.index < joints.size() && joints[id.index].alive &&
+           joints[id.index].generation == id.generation;
+  }
   bool isValidShape(ShapeId id) const {
     return !id.isNull() && id.index < shapes.size() && shapes[id.index].alive &&
            shapes[id.index].generation == id.generation;
@@ -281,6 +299,15 @@ struct RigidBodyData {
   // composing (the narrow phase asks twice per pair).
   Transform shapePose(const ShapeRecord& s) const {
     return s.atOrigin ? bodies[s.body].pose : bodies[s.body].pose * s.local;
+  }
+
+  // Whether an enabled joint between body slots a and b keeps them from colliding.
+  bool jointPrevents(std::uint32_t a, std::uint32_t b) const {
+    for (std::uint32_t ji : bodies[a].joints) {
+      const JointRecord& j = joints[ji];
+      if (j.enabled && !j.collideConnected && (j.bodyA == b || j.bodyB == b)) return true;
+    }
+    return false;
   }
 
   void updateMass(BodyRecord& b);

@@ -239,6 +239,9 @@ void RigidBodySystem::destroyBody(BodyId id) {
     D.dropContacts(si);
   }
   b.shapes.clear();
+  // Its joints go with it (a copy: destroyJoint edits the list).
+  for (const std::uint32_t ji : std::vector<std::uint32_t>(b.joints))
+    destroyJoint({ji, D.joints[ji].generation});
   b.alive = false;
   ++b.generation;
   --D.liveBodies;
@@ -514,6 +517,7 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, detail::StepWorke
   Data& D = *d_;
   D.beginEvents.clear();
   D.endEvents.clear();
+  D.jointEvents.clear();
   const auto t0 = Clock::now();
   detail::updateBroadPhase(D, dt, s.contact, workers);
   const auto t1 = Clock::now();

@@ -5,6 +5,7 @@
 
 #include "inertia/core/math.h"
 #include "integrate.h"
+#include "joint_solver.h"
 #include "lcp_contact.h"
 
 namespace inertia::detail {
@@ -161,18 +162,75 @@ void integratePositions(Data& D, Real h, StepWorkers& workers) {
   });
 }
 
-void warmStart(Data& D, StepWorkers& workers) {
-  D.bundles.updateApproach(D.solverBodies, workers);
-  D.bundles.warmStart(D.solverBodies, workers);
+// Joints per block of a colour's parallel pass.
+constexpr std::size_t kJointGrain = 16;
+
+// Runs a pass colour by colour (Box2D v3's solver stages): joint(k) for each joint constraint
+// of the colour, then contacts(first, count) for its bundles. A colour's joints and bundles
+// share no moving body, so the workers take blocks of both at once with the result of the
+// sequence; the overflow group runs in sequence, its joints before its contacts.
+template <class JointFn, class ContactFn>
+void forEachColor(Data& D, StepWorkers& workers, JointFn joint, ContactFn contacts) {
+  const ConstraintColoring& col = D.coloring;
+  for (std::size_t g = 0; g < D.bundles.groupCount(); ++g) {
+    const std::uint32_t jointBegin = col.jointOffsets[g], jointEnd = col.jointOffsets[g + 1];
+    const std::uint32_t bundleBegin = D.bundles.groupBegin(g), bundleEnd = D.bundles.groupEnd(g);
+    if (D.bundles.sequentialGroup(g)) {
+      for (std::uint32_t k = jointBegin; k < jointEnd; ++k) joint(col.jointOrder[k]);
+      contacts(bundleBegin, std::size_t(bundleEnd - bundleBegin));
+      continue;
+    }
+    const std::size_t jointBlocks = (jointEnd - jointBegin + kJointGrain - 1) / kJointGrain;
+    const std::size_t bundleBlocks = (bundleEnd - bundleBegin + kBundleGrain - 1) / kBundleGrain;
+    workers.parallelFor(jointBlocks + bundleBlocks, 1, [&](std::size_t first, std::size_t last) {
+      for (std::size_t block = first; block < last; ++block) {
+        if (block < jointBlocks) {
+          const std::uint32_t begin = jointBegin + std::uint32_t(block * kJointGrain);
+          const std::uint32_t end = std::min(jointEnd, begin + std::uint32_t(kJointGrain));
+          for (std::uint32_t k = begin; k < end; ++k) joint(col.jointOrder[k]);
+        } else {
+          const std::uint32_t begin =
+              bundleBegin + std::uint32_t((block - jointBlocks) * kBundleGrain);
+          contacts(begin, std::min<std::size_t>(kBundleGrain, bundleEnd - begin));
+        }
+      }
+    });
+  }
 }
 
-void solve(Data& D, const BiasMode& mode, int iterations, StepWorkers& workers) {
-  for (int it = 0; it < iterations; ++it) D.bundles.solve(D.solverBodies, mode, workers);
+void warmStart(Data& D, StepWorkers& workers) {
+  D.bundles.updateApproach(D.solverBodies, workers);
+  forEachColor(
+      D, workers,
+      [&](std::uint32_t k) { warmStartJoint(D, D.jointConstraints[k], D.solverBodies); },
+      [&](std::uint32_t first, std::size_t count) {
+        D.bundles.warmStart(D.solverBodies.data(), first, count);
+      });
+}
+
+void solve(Data& D, const BiasMode& mode, const JointPass& jointPass, int iterations,
+           StepWorkers& workers) {
+  for (int it = 0; it < iterations; ++it)
+    forEachColor(
+        D, workers,
+        [&](std::uint32_t k) { solveJoint(D, D.jointConstraints[k], D.solverBodies, jointPass); },
+        [&](std::uint32_t first, std::size_t count) {
+          D.bundles.solve(D.solverBodies.data(), mode, first, count);
+        });
 }
 
 // soft_step's relaxation: the solve passes without the position bias (relaxMode.useBias off).
-void relax(Data& D, const BiasMode& relaxMode, int iterations, StepWorkers& workers) {
-  solve(D, relaxMode, iterations, workers);
+void relax(Data& D, const BiasMode& relaxMode, const JointPass& jointPass, int iterations,
+           StepWorkers& workers) {
+  solve(D, relaxMode, jointPass, iterations, workers);
+}
+
+// With the LCP solvers the joints run before each substep's LCP, in sequence: warm started,
+// then `iterations` passes (their rows are not in the LCP yet).
+void solveJointsInSequence(Data& D, const JointPass& pass, int iterations) {
+  for (JointConstraint& c : D.jointConstraints) warmStartJoint(D, c, D.solverBodies);
+  for (int it = 0; it < iterations; ++it)
+    for (JointConstraint& c : D.jointConstraints) solveJoint(D, c, D.solverBodies, pass);
 }
 
 // The impulses into the contacts, for the next step's warm start and for the user.
@@ -226,8 +284,10 @@ void prepareContacts(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
     c.bodyB = solverSlot(D, info.bodyB.index);
     D.contactEdges.push_back({c.bodyA, c.bodyB});
   }
+  addJointConstraints(D, [&](std::uint32_t bi) { return solverSlot(D, bi); });
   prepareSolverBodies(D, workers);
   const Real h = dt / Real(s.substeps);
+  prepareJoints(D, s, h, workers);
   const Real hertz = std::min(tuning.hertz, Real(0.25) / h);
   const Softness soft = makeSoft(hertz, tuning.dampingRatio, h);
   const Softness staticSoft = makeSoft(2 * hertz, tuning.dampingRatio, h);
@@ -248,7 +308,7 @@ void prepareContacts(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
     groupConstraints(D.contactEdges, D.solverBodies.size(), D.lcpIslands);
   } else {
     // The graph's colours; the bundles compute the masses themselves, a bundle at a time.
-    colorGraph({}, D.contactEdges, D.solverBodies, D.coloring);
+    colorGraph(D.jointEdges, D.contactEdges, D.solverBodies, D.coloring);
     D.bundles.build(D.constraints, D.solverBodies, D.coloring, workers);
   }
   prepareMotion(D, s, h, workers);
@@ -270,6 +330,8 @@ double solveSubsteps(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
   mode.linearSlop = tuning.linearSlop;
   BiasMode relaxMode = mode;
   relaxMode.useBias = false;
+  const JointPass jointSolve = jointPass(s, h, true);
+  const JointPass jointRelax = jointPass(s, h, false);
   double integrationTime = 0;
   for (int sub = 0; sub < s.substeps; ++sub) {
     auto ti = Clock::now();
@@ -277,18 +339,19 @@ double solveSubsteps(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
     integrationTime += std::chrono::duration<double>(Clock::now() - ti).count();
     if (lcp) {
       // Direct LCP per island in place of the warm start and iterations (lcp_contact.h).
+      solveJointsInSequence(D, jointSolve, s.solver.iterations);
       updateApproach(D.constraints, D.solverBodies);
       solveContactsLcp(D.constraints, D.solverBodies, mode, lcpMethod, s.solver.iterations,
                        D.lcpIslands, D.lcp);
     } else {
       warmStart(D, workers);
-      solve(D, mode, s.solver.iterations, workers);
+      solve(D, mode, jointSolve, s.solver.iterations, workers);
     }
     ti = Clock::now();
     integratePositions(D, h, workers);
     integrationTime += std::chrono::duration<double>(Clock::now() - ti).count();
     if (!lcp) D.bundles.updateMotion(D.solverBodies, workers);
-    if (softStep) relax(D, relaxMode, s.solver.relaxIterations, workers);
+    if (softStep) relax(D, relaxMode, jointRelax, s.solver.relaxIterations, workers);
   }
   if (lcp) {
     applyRestitution(D.constraints, D.solverBodies, tuning.restitutionThreshold);
@@ -297,6 +360,7 @@ double solveSubsteps(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
     D.bundles.store(D.constraints, workers);
   }
   storeImpulses(D, workers);
+  storeJoints(D, h);
   return integrationTime;
 }
 

@@ -25,6 +25,9 @@ using BodyId = Id<BodyTag>;
 struct ShapeTag;
 /// A shape attached to a body.
 using ShapeId = Id<ShapeTag>;
+struct JointTag;
+/// A joint between two bodies (or a body and the world).
+using JointId = Id<JointTag>;
 struct ParticleSystemTag;
 /// A particle system in a World.
 using ParticleSystemId = Id<ParticleSystemTag>;

@@ -16,6 +16,7 @@
 #include "inertia/core/types.h"
 #include "inertia/geometry/bounds.h"
 #include "inertia/dynamics/body.h"
+#include "inertia/dynamics/joint.h"
 #include "inertia/geometry/shapes.h"
 #include "inertia/ode/method.h"
 
@@ -197,6 +198,47 @@ class RigidBodySystem {
   void applyImpulse(BodyId id, const Vec3& impulse, const Vec3& point);
   void applyAngularImpulse(BodyId id, const Vec3& impulse);  ///< (N m s)
   void wake(BodyId id);
+
+  // Joints (joint.h). Creation throws InvalidArgument naming the bad field: an invalid body,
+  // a body joined to itself, a zero axis, a lower limit above the upper, a negative threshold.
+  // It wakes both bodies.
+  JointId createJoint(const BallJointSettings& settings);
+  JointId createJoint(const HingeJointSettings& settings);
+  JointId createJoint(const SliderJointSettings& settings);
+  JointId createJoint(const WeldJointSettings& settings);
+  JointId createJoint(const DistanceJointSettings& settings);
+  /// Removes a joint (destroying a body removes its joints); the id becomes invalid.
+  void destroyJoint(JointId id);
+  bool isValid(JointId id) const;
+  JointType jointType(JointId id) const;
+  std::string_view jointName(JointId id) const;
+  BodyId jointBodyA(JointId id) const;  ///< Null for the world.
+  BodyId jointBodyB(JointId id) const;
+  /// A disabled joint is not solved. A joint that breaks is disabled; enabling it again
+  /// repairs it. Wakes its bodies.
+  void setJointEnabled(JointId id, bool enabled);
+  bool isJointEnabled(JointId id) const;
+  bool isJointBroken(JointId id) const;
+  /// The motor, limits or spring of a hinge or slider (a spring also of a weld or distance
+  /// joint); std::nullopt removes it. InvalidArgument for a type without one. Wakes the bodies.
+  void setJointMotor(JointId id, const std::optional<JointMotor>& motor);
+  void setJointLimits(JointId id, const std::optional<JointLimits>& limits);
+  void setJointSpring(JointId id, const std::optional<JointSpring>& spring);
+  /// Last step's constraint force on body B at its anchor (N, world), and torque (N m).
+  Vec3 jointForce(JointId id) const;
+  Vec3 jointTorque(JointId id) const;
+  /// The free coordinate now: a hinge's angle (rad), a slider's position (m), a distance
+  /// joint's length (m); 0 for the others.
+  Real jointCoordinate(JointId id) const;
+  JointError jointError(JointId id) const;
+  /// The anchors in world coordinates (m).
+  Vec3 jointAnchorA(JointId id) const;
+  Vec3 jointAnchorB(JointId id) const;
+  int jointCount() const;
+  /// The live joints in creation-slot order.
+  std::vector<JointId> joints() const;
+  /// The joints that broke in the last step, in slot order.
+  const std::vector<JointEvent>& jointEvents() const;
 
   /// Advances by `dt` seconds in settings.substeps substeps on the threads of `pool` (in
   /// sequence when null). Never throws for valid state.

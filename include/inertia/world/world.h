@@ -81,6 +81,14 @@ class World {
                    const Transform& local = {}) {
     return bodies_.addShape(body, shape, material, local);
   }
+  /// Adds a joint from any type's settings (joint.h; InvalidArgument for invalid settings);
+  /// the full joint API is on rigidBodies().
+  template <class JointSettings>
+  JointId createJoint(const JointSettings& settings) {
+    return bodies_.createJoint(settings);
+  }
+  void destroyJoint(JointId id) { bodies_.destroyJoint(id); }
+  bool isValid(JointId id) const { return bodies_.isValid(id); }
   Transform transform(BodyId id) const { return bodies_.transform(id); }
   Vec3 linearVelocity(BodyId id) const { return bodies_.linearVelocity(id); }    ///< (m/s)
   Vec3 angularVelocity(BodyId id) const { return bodies_.angularVelocity(id); }  ///< (rad/s)

@@ -1,0 +1,343 @@
+// The joint API of RigidBodySystem: settings checked and turned into a JointRecord (frames in
+// each body's frame that coincide at creation), and the accessors. The solver is
+// joint_solver.cpp.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "inertia/core/error.h"
+#include "inertia/core/math.h"
+#include "inertia/dynamics/rigid_body_system.h"
+#include "joint_solver.h"
+#include "rigid_body_data.h"
+
+namespace inertia {
+
+using detail::BodyRecord;
+using detail::JointRecord;
+using detail::kWorldBody;
+using Data = detail::RigidBodyData;
+
+namespace {
+
+struct TypeEntry {
+  JointType type;
+  std::string_view name;
+};
+constexpr std::array<TypeEntry, 5> kTypes{{{JointType::Ball, "ball"},
+                                           {JointType::Hinge, "hinge"},
+                                           {JointType::Slider, "slider"},
+                                           {JointType::Weld, "weld"},
+                                           {JointType::Distance, "distance"}}};
+
+// Throws InvalidArgument "<Settings>::<field> <what>" unless `ok`.
+void check(bool ok, std::string_view settings, std::string_view field, std::string_view what) {
+  if (ok) return;
+  std::string message;
+  message.append(settings).append("::").append(field).append(" ").append(what);
+  throw InvalidArgument(message);
+}
+
+Vec3 unitAxis(const Vec3& axis, const char* settings, const char* field) {
+  check(allFinite(axis) && axis.norm() > Real(1e-6), settings, field,
+        "must be finite and not zero");
+  return axis.normalized();
+}
+
+void checkLimits(const std::optional<JointLimits>& l, const char* settings, Real bound) {
+  if (!l) return;
+  check(std::isfinite(l->lower) && std::isfinite(l->upper), settings, "limits", "must be finite");
+  check(l->lower <= l->upper, settings, "limits", "lower must be <= upper");
+  check(l->lower >= -bound && l->upper <= bound, settings, "limits", "must lie in [-pi, pi] (rad)");
+}
+
+void checkMotor(const std::optional<JointMotor>& m, const char* settings) {
+  if (!m) return;
+  check(std::isfinite(m->speed), settings, "motor.speed", "must be finite");
+  check(std::isfinite(m->maxForce) && m->maxForce >= 0, settings, "motor.maxForce",
+        "must be finite and >= 0");
+  check(!m->target || std::isfinite(*m->target), settings, "motor.target", "must be finite");
+  check(std::isfinite(m->servoFrequency) && m->servoFrequency > 0, settings, "motor.servoFrequency",
+        "must be finite and > 0 (Hz)");
+}
+
+void checkSpring(const std::optional<JointSpring>& s, const char* settings) {
+  if (!s) return;
+  check(std::isfinite(s->frequency) && s->frequency > 0, settings, "spring.frequency",
+        "must be finite and > 0 (Hz)");
+  check(std::isfinite(s->dampingRatio) && s->dampingRatio >= 0, settings, "spring.dampingRatio",
+        "must be finite and >= 0");
+  check(std::isfinite(s->rest), settings, "spring.rest", "must be finite");
+}
+
+// A rotation whose x axis is `x` (unit) and whose y axis is `y` made perpendicular to it (or
+// any perpendicular when y is parallel to x).
+Quat frameWithAxes(const Vec3& x, const Vec3& yHint) {
+  Vec3 y = yHint - yHint.dot(x) * x;
+  if (y.norm() < Real(1e-6)) y = x.unitOrthogonal();
+  y.normalize();
+  Mat3 m;
+  m.col(0) = x;
+  m.col(1) = y;
+  m.col(2) = x.cross(y);
+  return Quat(m).normalized();
+}
+
+// What every type shares: the bodies, anchors, thresholds and name, checked.
+template <class S>
+JointRecord commonRecord(Data& D, const S& s, JointType type, const char* name) {
+  check(!s.bodyB.isNull(), name, "bodyB", "must be a body (only bodyA may be null: the world)");
+  check(D.isValidBody(s.bodyB), name, "bodyB", "is not a valid body");
+  check(s.bodyA.isNull() || D.isValidBody(s.bodyA), name, "bodyA", "is not a valid body");
+  check(s.bodyA != s.bodyB, name, "bodyB", "must differ from bodyA (a body joined to itself)");
+  check(allFinite(s.anchorA), name, "anchorA", "must be finite (m)");
+  check(allFinite(s.anchorB), name, "anchorB", "must be finite (m)");
+  check(!std::isnan(s.breakForce) && s.breakForce >= 0, name, "breakForce", "must be >= 0 (N)");
+  check(!std::isnan(s.breakTorque) && s.breakTorque >= 0, name, "breakTorque",
+        "must be >= 0 (N m)");
+  JointRecord j;
+  j.type = type;
+  j.bodyA = s.bodyA.isNull() ? kWorldBody : s.bodyA.index;
+  j.bodyB = s.bodyB.index;
+  j.frameA.p = s.anchorA;
+  j.frameB.p = s.anchorB;
+  j.breakForce = s.breakForce;
+  j.breakTorque = s.breakTorque;
+  j.collideConnected = s.collideConnected;
+  j.name = s.name;
+  return j;
+}
+
+Quat rotationOf(const Data& D, std::uint32_t body) {
+  return body == kWorldBody ? Quat::Identity() : D.bodies[body].pose.q;
+}
+
+// B's frame rotation that makes its world rotation equal A's frame's now.
+void alignFrameB(const Data& D, JointRecord& j) {
+  j.frameB.q = rotationOf(D, j.bodyB).conjugate() * rotationOf(D, j.bodyA) * j.frameA.q;
+}
+
+Transform worldFrame(const Data& D, std::uint32_t body, const Transform& frame) {
+  return body == kWorldBody ? frame : D.bodies[body].pose * frame;
+}
+
+}  // namespace
+
+std::string_view jointTypeName(JointType type) {
+  for (const auto& t : kTypes)
+    if (t.type == type) return t.name;
+  return "unknown";
+}
+
+namespace {
+
+JointId addJoint(Data& D, JointRecord&& record) {
+  // The first free slot (none while every slot is live: the common case, without a search).
+  std::uint32_t slot =
+      std::uint32_t(D.liveJoints) == D.joints.size() ? std::uint32_t(D.joints.size()) : 0;
+  while (slot < D.joints.size() && D.joints[slot].alive) ++slot;
+  if (slot == D.joints.size()) D.joints.emplace_back();
+  record.generation = D.joints[slot].generation;
+  record.alive = true;
+  D.joints[slot] = std::move(record);
+  JointRecord& j = D.joints[slot];
+  if (j.bodyA != kWorldBody) {
+    D.bodies[j.bodyA].joints.push_back(slot);
+    D.wake(D.bodies[j.bodyA]);
+  }
+  D.bodies[j.bodyB].joints.push_back(slot);
+  D.wake(D.bodies[j.bodyB]);
+  if (!j.collideConnected) D.pairsDirty = true;
+  ++D.liveJoints;
+  return {slot, j.generation};
+}
+
+}  // namespace
+
+JointId RigidBodySystem::createJoint(const BallJointSettings& s) {
+  Data& D = *d_;
+  const char* name = "BallJointSettings";
+  check(std::isfinite(s.friction) && s.friction >= 0, name, "friction", "must be finite and >= 0");
+  JointRecord j = commonRecord(D, s, JointType::Ball, name);
+  j.friction = s.friction;
+  return addJoint(D, std::move(j));
+}
+
+JointId RigidBodySystem::createJoint(const HingeJointSettings& s) {
+  Data& D = *d_;
+  const char* name = "HingeJointSettings";
+  const Vec3 axisA = unitAxis(s.axisA, name, "axisA");
+  const Vec3 axisB = unitAxis(s.axisB, name, "axisB");
+  checkLimits(s.limits, name, Real(std::numbers::pi));
+  checkMotor(s.motor, name);
+  checkSpring(s.spring, name);
+  check(std::isfinite(s.friction) && s.friction >= 0, name, "friction", "must be finite and >= 0");
+  JointRecord j = commonRecord(D, s, JointType::Hinge, name);
+  j.frameA.q = frameWithAxes(axisA, axisA.unitOrthogonal());
+  // B's frame: its axis, and the perpendicular that lies along A's now (the angle is 0).
+  const Quat qA = rotationOf(D, j.bodyA), qB = rotationOf(D, j.bodyB);
+  const Vec3 yWorld = qA * (j.frameA.q * Vec3::UnitY());
+  j.frameB.q = frameWithAxes(axisB, qB.conjugate() * yWorld);
+  j.limits = s.limits;
+  j.motor = s.motor;
+  j.spring = s.spring;
+  j.friction = s.friction;
+  return addJoint(D, std::move(j));
+}
+
+JointId RigidBodySystem::createJoint(const SliderJointSettings& s) {
+  Data& D = *d_;
+  const char* name = "SliderJointSettings";
+  const Vec3 axisA = unitAxis(s.axisA, name, "axisA");
+  checkLimits(s.limits, name, std::numeric_limits<Real>::infinity());
+  checkMotor(s.motor, name);
+  checkSpring(s.spring, name);
+  check(std::isfinite(s.friction) && s.friction >= 0, name, "friction", "must be finite and >= 0");
+  JointRecord j = commonRecord(D, s, JointType::Slider, name);
+  j.frameA.q = frameWithAxes(axisA, axisA.unitOrthogonal());
+  alignFrameB(D, j);
+  const Transform fa = worldFrame(D, j.bodyA, j.frameA);
+  const Transform fb = worldFrame(D, j.bodyB, j.frameB);
+  j.reference = (fa.q * Vec3::UnitX()).dot(fb.p - fa.p);
+  j.limits = s.limits;
+  j.motor = s.motor;
+  j.spring = s.spring;
+  j.friction = s.friction;
+  return addJoint(D, std::move(j));
+}
+
+JointId RigidBodySystem::createJoint(const WeldJointSettings& s) {
+  Data& D = *d_;
+  const char* name = "WeldJointSettings";
+  checkSpring(s.spring, name);
+  JointRecord j = commonRecord(D, s, JointType::Weld, name);
+  alignFrameB(D, j);
+  j.spring = s.spring;
+  return addJoint(D, std::move(j));
+}
+
+JointId RigidBodySystem::createJoint(const DistanceJointSettings& s) {
+  Data& D = *d_;
+  const char* name = "DistanceJointSettings";
+  checkSpring(s.spring, name);
+  check(std::isfinite(s.length) && std::isfinite(s.minLength) && std::isfinite(s.maxLength), name,
+        "length", "and minLength, maxLength must be finite (m)");
+  JointRecord j = commonRecord(D, s, JointType::Distance, name);
+  const Real now = (worldFrame(D, j.bodyB, j.frameB).p - worldFrame(D, j.bodyA, j.frameA).p).norm();
+  j.length = s.length < 0 ? now : s.length;
+  j.minLength = s.minLength < 0 ? j.length : s.minLength;
+  j.maxLength = s.maxLength < 0 ? j.length : s.maxLength;
+  check(j.minLength <= j.maxLength, name, "minLength", "must be <= maxLength");
+  j.spring = s.spring;
+  return addJoint(D, std::move(j));
+}
+
+void RigidBodySystem::destroyJoint(JointId id) {
+  Data& D = *d_;
+  JointRecord& j = D.joint(id);
+  const std::uint32_t slot = id.index;
+  for (std::uint32_t body : {j.bodyA, j.bodyB}) {
+    if (body == kWorldBody) continue;
+    std::vector<std::uint32_t>& list = D.bodies[body].joints;
+    list.erase(std::remove(list.begin(), list.end(), slot), list.end());
+    D.wake(D.bodies[body]);
+  }
+  if (!j.collideConnected) D.pairsDirty = true;
+  const std::uint32_t generation = j.generation + 1;
+  j = JointRecord{};
+  j.generation = generation;
+  --D.liveJoints;
+}
+
+bool RigidBodySystem::isValid(JointId id) const { return d_->isValidJoint(id); }
+JointType RigidBodySystem::jointType(JointId id) const { return d_->joint(id).type; }
+std::string_view RigidBodySystem::jointName(JointId id) const { return d_->joint(id).name; }
+
+BodyId RigidBodySystem::jointBodyA(JointId id) const {
+  const JointRecord& j = d_->joint(id);
+  return j.bodyA == kWorldBody ? BodyId{} : d_->bodyId(j.bodyA);
+}
+
+BodyId RigidBodySystem::jointBodyB(JointId id) const { return d_->bodyId(d_->joint(id).bodyB); }
+
+void RigidBodySystem::setJointEnabled(JointId id, bool enabled) {
+  Data& D = *d_;
+  JointRecord& j = D.joint(id);
+  if (j.enabled == enabled) return;
+  j.enabled = enabled;
+  j.parts = {};
+  if (enabled) j.broken = false;
+  for (std::uint32_t body : {j.bodyA, j.bodyB})
+    if (body != kWorldBody) D.wake(D.bodies[body]);
+}
+
+bool RigidBodySystem::isJointEnabled(JointId id) const { return d_->joint(id).enabled; }
+bool RigidBodySystem::isJointBroken(JointId id) const { return d_->joint(id).broken; }
+
+namespace {
+void wakeJoint(Data& D, const JointRecord& j) {
+  for (std::uint32_t body : {j.bodyA, j.bodyB})
+    if (body != kWorldBody) D.wake(D.bodies[body]);
+}
+bool hasAxis(JointType t) { return t == JointType::Hinge || t == JointType::Slider; }
+}  // namespace
+
+void RigidBodySystem::setJointMotor(JointId id, const std::optional<JointMotor>& motor) {
+  JointRecord& j = d_->joint(id);
+  require(hasAxis(j.type), "setJointMotor: only hinge and slider joints have a motor");
+  checkMotor(motor, "setJointMotor");
+  j.motor = motor;
+  j.parts.axis.motor = 0;
+  wakeJoint(*d_, j);
+}
+
+void RigidBodySystem::setJointLimits(JointId id, const std::optional<JointLimits>& limits) {
+  JointRecord& j = d_->joint(id);
+  require(hasAxis(j.type), "setJointLimits: only hinge and slider joints have limits");
+  checkLimits(
+      limits, "setJointLimits",
+      j.type == JointType::Hinge ? Real(std::numbers::pi) : std::numeric_limits<Real>::infinity());
+  j.limits = limits;
+  j.parts.axis.lower = j.parts.axis.upper = 0;
+  wakeJoint(*d_, j);
+}
+
+void RigidBodySystem::setJointSpring(JointId id, const std::optional<JointSpring>& spring) {
+  JointRecord& j = d_->joint(id);
+  require(j.type != JointType::Ball, "setJointSpring: a ball joint has no spring");
+  checkSpring(spring, "setJointSpring");
+  j.spring = spring;
+  j.parts.axis.spring = 0;
+  wakeJoint(*d_, j);
+}
+
+Vec3 RigidBodySystem::jointForce(JointId id) const { return d_->joint(id).force; }
+Vec3 RigidBodySystem::jointTorque(JointId id) const { return d_->joint(id).torque; }
+Real RigidBodySystem::jointCoordinate(JointId id) const {
+  return detail::jointCoordinate(*d_, d_->joint(id));
+}
+JointError RigidBodySystem::jointError(JointId id) const {
+  return detail::jointError(*d_, d_->joint(id));
+}
+Vec3 RigidBodySystem::jointAnchorA(JointId id) const {
+  const JointRecord& j = d_->joint(id);
+  return worldFrame(*d_, j.bodyA, j.frameA).p;
+}
+Vec3 RigidBodySystem::jointAnchorB(JointId id) const {
+  const JointRecord& j = d_->joint(id);
+  return worldFrame(*d_, j.bodyB, j.frameB).p;
+}
+int RigidBodySystem::jointCount() const { return d_->liveJoints; }
+
+std::vector<JointId> RigidBodySystem::joints() const {
+  std::vector<JointId> ids;
+  for (std::uint32_t i = 0; i < d_->joints.size(); ++i)
+    if (d_->joints[i].alive) ids.push_back({i, d_->joints[i].generation});
+  return ids;
+}
+
+const std::vector<JointEvent>& RigidBodySystem::jointEvents() const { return d_->jointEvents; }
+
+}  // namespace inertia

@@ -1,0 +1,64 @@
+// Internal: the joints' solver stage, beside the contacts' in each substep (solver_stages.h):
+//   addJointConstraints  this step's joints (an awake dynamic body on either side), their
+//                        solver bodies and graph edges;
+//   prepareJoints        anchors, frames and spring coefficients at the step's start;
+//   warmStartJoint / solveJoint, per joint, colour by colour with the contacts;
+//   storeJoints          impulses kept for the next step, forces, and breaking.
+// Joints are soft constraints in the soft step (Box2D v3: twice the contact stiffness, damping
+// ratio 2, relaxed without bias like the contacts), rigid rows with Baumgarte's feedback for
+// pgs and the LCP solvers.
+#pragma once
+
+#include "rigid_body_data.h"
+
+namespace inertia::detail {
+
+/// How a pass treats a joint's position error.
+struct JointPass {
+  Softness rigid{};  ///< The locked rows' coefficients (soft, Baumgarte or relax).
+  Real h = 0;        ///< Substep (s).
+  Real invH = 0;
+};
+
+/// The pass coefficients of the soft step, pgs, and the relaxation.
+JointPass jointPass(const DynamicsSettings& s, Real h, bool useBias);
+
+/// Appends this step's joint constraints and their graph edges, making solver bodies with
+/// `slot(bodyIndex)` (after the contacts', so that worlds without joints are unchanged).
+template <class Slot>
+void addJointConstraints(RigidBodyData& D, Slot slot) {
+  D.jointConstraints.clear();
+  D.jointEdges.clear();
+  for (std::uint32_t ji = 0; ji < D.joints.size(); ++ji) {
+    const JointRecord& j = D.joints[ji];
+    if (!j.alive || !j.enabled) continue;
+    const bool aActive = j.bodyA != kWorldBody && D.bodies[j.bodyA].type == BodyType::Dynamic &&
+                         D.bodies[j.bodyA].awake;
+    const BodyRecord& b = D.bodies[j.bodyB];
+    if (!aActive && !(b.type == BodyType::Dynamic && b.awake)) continue;
+    JointConstraint& c = D.jointConstraints.emplace_back();
+    c.joint = ji;
+    c.bodyA = j.bodyA == kWorldBody ? -1 : slot(j.bodyA);
+    c.bodyB = slot(j.bodyB);
+    D.jointEdges.push_back({c.bodyA, c.bodyB});
+  }
+}
+
+/// Frames, anchors and spring coefficients of the joint constraints (after the solver bodies).
+void prepareJoints(RigidBodyData& D, const DynamicsSettings& s, Real h, StepWorkers& workers);
+/// Applies a joint's accumulated impulses to its bodies.
+void warmStartJoint(const RigidBodyData& D, JointConstraint& c, std::vector<SolverBody>& bodies);
+/// One pass over a joint's rows.
+void solveJoint(const RigidBodyData& D, JointConstraint& c, std::vector<SolverBody>& bodies,
+                const JointPass& pass);
+/// After the substeps: impulses into the records, forces (impulse over the substep), and the
+/// joints whose force or torque passed their threshold break (disabled, reported once).
+void storeJoints(RigidBodyData& D, Real h);
+
+/// A joint's error from the bodies' poses (the joint records' columns).
+JointError jointError(const RigidBodyData& D, const JointRecord& j);
+/// The joint's free coordinate from the bodies' poses: hinge angle (rad), slider position (m),
+/// distance (m); 0 for the others.
+Real jointCoordinate(const RigidBodyData& D, const JointRecord& j);
+
+}  // namespace inertia::detail
