@@ -98,12 +98,14 @@ void setRows(JointConstraint& c, const JointRecord& j, const Frame& f) {
 void driveAxis(JointConstraint& c, const JointRecord& j, SolverBody& a, SolverBody& b,
                Real coordinate, const JointPass& pass) {
   AxisRows& ax = c.parts.axis;
-  if (j.spring) ax.solveSoft(a, b, ax.spring, coordinate - j.spring->rest, c.spring, kInfinity);
+  if (j.spring && !pass.relax)
+    ax.solveSoft(a, b, ax.spring, coordinate - j.spring->rest, c.spring, kInfinity);
   if (j.motor && j.motor->maxForce > 0) {
     const Real maxImpulse = j.motor->maxForce * pass.h;
-    if (j.motor->target)
-      ax.solveSoft(a, b, ax.motor, coordinate - *j.motor->target, c.servo, maxImpulse);
-    else
+    if (j.motor->target) {
+      if (!pass.relax)
+        ax.solveSoft(a, b, ax.motor, coordinate - *j.motor->target, c.servo, maxImpulse);
+    } else
       ax.solveMotor(a, b, ax.motor, j.motor->speed, maxImpulse);
   }
   if (j.friction > 0) ax.solveMotor(a, b, ax.friction, 0, j.friction * pass.h);
@@ -141,6 +143,7 @@ void solveSlider(JointConstraint& c, const JointRecord& j, SolverBody& a, Solver
 
 void solveWeld(JointConstraint& c, const JointRecord& j, SolverBody& a, SolverBody& b,
                const Frame& f, const JointPass& pass) {
+  if (j.spring && pass.relax) return;
   const Softness& soft = j.spring ? c.spring : pass.rigid;
   c.parts.rotation.solve(a, b, rotationError(f.qA, f.qB), soft);
   c.parts.point.solve(a, b, f.d, soft);
@@ -151,11 +154,12 @@ void solveDistance(JointConstraint& c, const JointRecord& j, SolverBody& a, Solv
   AxisRows& ax = c.parts.axis;
   const Real length = f.d.norm();
   if (j.minLength < j.maxLength) {
-    if (j.spring) ax.solveSoft(a, b, ax.spring, length - j.length, c.spring, kInfinity);
+    if (j.spring && !pass.relax)
+      ax.solveSoft(a, b, ax.spring, length - j.length, c.spring, kInfinity);
     ax.solveLimit(a, b, ax.lower, length - j.minLength, 1, pass.rigid, pass.invH);
     ax.solveLimit(a, b, ax.upper, j.maxLength - length, -1, pass.rigid, pass.invH);
   } else if (j.spring) {
-    ax.solveSoft(a, b, ax.spring, length - j.length, c.spring, kInfinity);
+    if (!pass.relax) ax.solveSoft(a, b, ax.spring, length - j.length, c.spring, kInfinity);
   } else {
     ax.solveSoft(a, b, ax.lock, length - j.length, pass.rigid, kInfinity);
   }
@@ -183,6 +187,7 @@ JointPass jointPass(const DynamicsSettings& s, Real h, bool useBias) {
   JointPass pass;
   pass.h = h;
   pass.invH = 1 / h;
+  pass.relax = !useBias;
   if (!useBias) {
     pass.rigid = {0, 1, 0};
   } else if (s.solver.type == SolverType::SoftStep) {

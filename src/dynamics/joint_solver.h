@@ -18,6 +18,11 @@ struct JointPass {
   Softness rigid{};  ///< The locked rows' coefficients (soft, Baumgarte or relax).
   Real h = 0;        ///< Substep (s).
   Real invH = 0;
+  /// The relax pass: springs and servos sit it out. Their implicit rows were solved in the
+  /// substep's iterations; solving them again after the position update would make each
+  /// substep a different integrator (it restarts the implicit step from the new position),
+  /// which measurably slows and damps the spring (joint_test.cpp).
+  bool relax = false;
 };
 
 /// The pass coefficients of the soft step, pgs, and the relaxation.
