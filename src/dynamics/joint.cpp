@@ -15,6 +15,7 @@
 
 namespace inertia {
 
+using detail::AxisRows;
 using detail::BodyRecord;
 using detail::JointRecord;
 using detail::kWorldBody;
@@ -26,11 +27,13 @@ struct TypeEntry {
   JointType type;
   std::string_view name;
 };
-constexpr std::array<TypeEntry, 5> kTypes{{{JointType::Ball, "ball"},
+constexpr std::array<TypeEntry, 7> kTypes{{{JointType::Ball, "ball"},
                                            {JointType::Hinge, "hinge"},
                                            {JointType::Slider, "slider"},
+                                           {JointType::Universal, "universal"},
                                            {JointType::Weld, "weld"},
-                                           {JointType::Distance, "distance"}}};
+                                           {JointType::Distance, "distance"},
+                                           {JointType::SixDof, "six_dof"}}};
 
 // Throws InvalidArgument "<Settings>::<field> <what>" unless `ok`.
 void check(bool ok, std::string_view settings, std::string_view field, std::string_view what) {
@@ -156,11 +159,40 @@ JointId addJoint(Data& D, JointRecord&& record) {
 
 }  // namespace
 
+// A free axis of `settings`' limits, motor, spring and friction, checked.
+JointAxis freeAxis(const char* settings, const std::optional<JointLimits>& limits, Real bound,
+                   const std::optional<JointMotor>& motor, const std::optional<JointSpring>& spring,
+                   Real friction) {
+  checkLimits(limits, settings, bound);
+  checkMotor(motor, settings);
+  checkSpring(spring, settings);
+  check(std::isfinite(friction) && friction >= 0, settings, "friction", "must be finite and >= 0");
+  return {
+      .locked = false, .limits = limits, .motor = motor, .spring = spring, .friction = friction};
+}
+
+// Frames on A and B whose x axes are the joint's axis in each body (axisA, axisB), and whose y
+// axes coincide now, so that the twist about the axis is 0 at creation.
+void axisFrames(const Data& D, JointRecord& j, const Vec3& axisA, const Vec3& axisB) {
+  j.frameA.q = frameWithAxes(axisA, axisA.unitOrthogonal());
+  const Quat qA = rotationOf(D, j.bodyA), qB = rotationOf(D, j.bodyB);
+  const Vec3 yWorld = qA * (j.frameA.q * Vec3::UnitY());
+  j.frameB.q = frameWithAxes(axisB, qB.conjugate() * yWorld);
+}
+
 JointId RigidBodySystem::createJoint(const BallJointSettings& s) {
   Data& D = *d_;
   const char* name = "BallJointSettings";
+  const Vec3 axisA = unitAxis(s.axisA, name, "axisA");
+  const Vec3 axisB = unitAxis(s.axisB, name, "axisB");
+  check(!s.coneLimit || (*s.coneLimit > 0 && *s.coneLimit < Real(std::numbers::pi)), name,
+        "coneLimit", "must be in (0, pi) (rad)");
+  checkLimits(s.twistLimits, name, Real(std::numbers::pi));
   check(std::isfinite(s.friction) && s.friction >= 0, name, "friction", "must be finite and >= 0");
   JointRecord j = commonRecord(D, s, JointType::Ball, name);
+  axisFrames(D, j, axisA, axisB);
+  j.coneLimit = s.coneLimit;
+  j.axes[3] = {.locked = false, .limits = s.twistLimits};
   j.friction = s.friction;
   return addJoint(D, std::move(j));
 }
@@ -170,20 +202,11 @@ JointId RigidBodySystem::createJoint(const HingeJointSettings& s) {
   const char* name = "HingeJointSettings";
   const Vec3 axisA = unitAxis(s.axisA, name, "axisA");
   const Vec3 axisB = unitAxis(s.axisB, name, "axisB");
-  checkLimits(s.limits, name, Real(std::numbers::pi));
-  checkMotor(s.motor, name);
-  checkSpring(s.spring, name);
-  check(std::isfinite(s.friction) && s.friction >= 0, name, "friction", "must be finite and >= 0");
+  const JointAxis angle =
+      freeAxis(name, s.limits, Real(std::numbers::pi), s.motor, s.spring, s.friction);
   JointRecord j = commonRecord(D, s, JointType::Hinge, name);
-  j.frameA.q = frameWithAxes(axisA, axisA.unitOrthogonal());
-  // B's frame: its axis, and the perpendicular that lies along A's now (the angle is 0).
-  const Quat qA = rotationOf(D, j.bodyA), qB = rotationOf(D, j.bodyB);
-  const Vec3 yWorld = qA * (j.frameA.q * Vec3::UnitY());
-  j.frameB.q = frameWithAxes(axisB, qB.conjugate() * yWorld);
-  j.limits = s.limits;
-  j.motor = s.motor;
-  j.spring = s.spring;
-  j.friction = s.friction;
+  axisFrames(D, j, axisA, axisB);
+  j.axes[3] = angle;
   return addJoint(D, std::move(j));
 }
 
@@ -191,20 +214,68 @@ JointId RigidBodySystem::createJoint(const SliderJointSettings& s) {
   Data& D = *d_;
   const char* name = "SliderJointSettings";
   const Vec3 axisA = unitAxis(s.axisA, name, "axisA");
-  checkLimits(s.limits, name, std::numeric_limits<Real>::infinity());
-  checkMotor(s.motor, name);
-  checkSpring(s.spring, name);
-  check(std::isfinite(s.friction) && s.friction >= 0, name, "friction", "must be finite and >= 0");
+  const JointAxis position = freeAxis(name, s.limits, std::numeric_limits<Real>::infinity(),
+                                      s.motor, s.spring, s.friction);
   JointRecord j = commonRecord(D, s, JointType::Slider, name);
   j.frameA.q = frameWithAxes(axisA, axisA.unitOrthogonal());
   alignFrameB(D, j);
   const Transform fa = worldFrame(D, j.bodyA, j.frameA);
   const Transform fb = worldFrame(D, j.bodyB, j.frameB);
   j.reference = (fa.q * Vec3::UnitX()).dot(fb.p - fa.p);
-  j.limits = s.limits;
-  j.motor = s.motor;
-  j.spring = s.spring;
-  j.friction = s.friction;
+  j.axes[0] = position;
+  return addJoint(D, std::move(j));
+}
+
+JointId RigidBodySystem::createJoint(const UniversalJointSettings& s) {
+  Data& D = *d_;
+  const char* name = "UniversalJointSettings";
+  const Vec3 axisA = unitAxis(s.axisA, name, "axisA");
+  const Vec3 axisB = unitAxis(s.axisB, name, "axisB");
+  checkLimits(s.limitsA, name, Real(std::numbers::pi));
+  checkLimits(s.limitsB, name, Real(std::numbers::pi / 2));
+  JointRecord j = commonRecord(D, s, JointType::Universal, name);
+  // Frame A: x along axisA, y along axisB now; B's frame coincides with it now. The joint is
+  // then a six-DOF joint with rx (about axisA) and ry (about axisB) free: R = Rx(a) Ry(b).
+  const Vec3 bInA = rotationOf(D, j.bodyA).conjugate() * (rotationOf(D, j.bodyB) * axisB);
+  check(std::abs(bInA.dot(axisA)) < Real(1e-3), name, "axisB",
+        "must be perpendicular to axisA at creation");
+  j.frameA.q = frameWithAxes(axisA, bInA);
+  alignFrameB(D, j);
+  j.axes[3] = {.locked = false, .limits = s.limitsA};
+  j.axes[4] = {.locked = false, .limits = s.limitsB};
+  return addJoint(D, std::move(j));
+}
+
+JointId RigidBodySystem::createJoint(const SixDofJointSettings& s) {
+  Data& D = *d_;
+  const char* name = "SixDofJointSettings";
+  check(allFinite(s.frameA.p) && allFinite(s.frameA.q) && s.frameA.q.norm() > Real(1e-6), name,
+        "frameA", "must be finite with a non-zero orientation");
+  check(allFinite(s.frameB.p) && allFinite(s.frameB.q) && s.frameB.q.norm() > Real(1e-6), name,
+        "frameB", "must be finite with a non-zero orientation");
+  static constexpr std::array<const char*, 6> kAxes{
+      "SixDofJointSettings::axes[0] (x)",  "SixDofJointSettings::axes[1] (y)",
+      "SixDofJointSettings::axes[2] (z)",  "SixDofJointSettings::axes[3] (rx)",
+      "SixDofJointSettings::axes[4] (ry)", "SixDofJointSettings::axes[5] (rz)"};
+  for (std::size_t i = 0; i < 6; ++i) {
+    const JointAxis& a = s.axes[i];
+    const char* field = kAxes[i];
+    const Real bound = i < 3 ? std::numeric_limits<Real>::infinity()
+                             : Real(i == 4 ? std::numbers::pi / 2 : std::numbers::pi);
+    if (!a.locked) freeAxis(field, a.limits, bound, a.motor, a.spring, a.friction);
+  }
+  BallJointSettings anchors{.bodyA = s.bodyA,
+                            .bodyB = s.bodyB,
+                            .anchorA = s.frameA.p,
+                            .anchorB = s.frameB.p,
+                            .breakForce = s.breakForce,
+                            .breakTorque = s.breakTorque,
+                            .collideConnected = s.collideConnected,
+                            .name = s.name};
+  JointRecord j = commonRecord(D, anchors, JointType::SixDof, name);
+  j.frameA.q = s.frameA.q.normalized();
+  j.frameB.q = s.frameB.q.normalized();
+  j.axes = s.axes;
   return addJoint(D, std::move(j));
 }
 
@@ -281,36 +352,73 @@ void wakeJoint(Data& D, const JointRecord& j) {
   for (std::uint32_t body : {j.bodyA, j.bodyB})
     if (body != kWorldBody) D.wake(D.bodies[body]);
 }
-bool hasAxis(JointType t) { return t == JointType::Hinge || t == JointType::Slider; }
+}  // namespace
+
+namespace {
+// The degree of freedom a hinge's or slider's motor, limits and spring act on.
+JointAxis& primaryAxis(JointRecord& j, AxisRows*& rows, const char* what) {
+  require(j.type == JointType::Hinge || j.type == JointType::Slider,
+          std::string(what) + ": only hinge and slider joints have one (six-DOF: setJointAxis)");
+  const std::size_t k = j.type == JointType::Hinge ? 3 : 0;
+  rows = &j.parts.axes[k];
+  return j.axes[k];
+}
 }  // namespace
 
 void RigidBodySystem::setJointMotor(JointId id, const std::optional<JointMotor>& motor) {
   JointRecord& j = d_->joint(id);
-  require(hasAxis(j.type), "setJointMotor: only hinge and slider joints have a motor");
+  AxisRows* rows = nullptr;
+  JointAxis& axis = primaryAxis(j, rows, "setJointMotor");
   checkMotor(motor, "setJointMotor");
-  j.motor = motor;
-  j.parts.axis.motor = 0;
+  axis.motor = motor;
+  rows->motor = 0;
   wakeJoint(*d_, j);
 }
 
 void RigidBodySystem::setJointLimits(JointId id, const std::optional<JointLimits>& limits) {
   JointRecord& j = d_->joint(id);
-  require(hasAxis(j.type), "setJointLimits: only hinge and slider joints have limits");
+  AxisRows* rows = nullptr;
+  JointAxis& axis = primaryAxis(j, rows, "setJointLimits");
   checkLimits(
       limits, "setJointLimits",
       j.type == JointType::Hinge ? Real(std::numbers::pi) : std::numeric_limits<Real>::infinity());
-  j.limits = limits;
-  j.parts.axis.lower = j.parts.axis.upper = 0;
+  axis.limits = limits;
+  rows->lower = rows->upper = 0;
   wakeJoint(*d_, j);
 }
 
 void RigidBodySystem::setJointSpring(JointId id, const std::optional<JointSpring>& spring) {
   JointRecord& j = d_->joint(id);
-  require(j.type != JointType::Ball, "setJointSpring: a ball joint has no spring");
   checkSpring(spring, "setJointSpring");
-  j.spring = spring;
-  j.parts.axis.spring = 0;
+  if (j.type == JointType::Weld || j.type == JointType::Distance) {
+    j.spring = spring;
+    j.parts.axes[0].spring = 0;
+  } else {
+    AxisRows* rows = nullptr;
+    primaryAxis(j, rows, "setJointSpring").spring = spring;
+    rows->spring = 0;
+  }
   wakeJoint(*d_, j);
+}
+
+void RigidBodySystem::setJointAxis(JointId id, int axis, const JointAxis& settings) {
+  JointRecord& j = d_->joint(id);
+  require(j.type == JointType::SixDof, "setJointAxis: only six-DOF joints have axes to set");
+  require(axis >= 0 && axis < 6, "setJointAxis: axis must be 0..5 (x, y, z, rx, ry, rz)");
+  if (!settings.locked)
+    freeAxis("setJointAxis", settings.limits,
+             axis < 3 ? std::numeric_limits<Real>::infinity()
+                      : Real(axis == 4 ? std::numbers::pi / 2 : std::numbers::pi),
+             settings.motor, settings.spring, settings.friction);
+  j.axes[std::size_t(axis)] = settings;
+  j.parts.axes[std::size_t(axis)] = {};
+  j.parts.lock = {};  // its rows change
+  wakeJoint(*d_, j);
+}
+
+Real RigidBodySystem::jointAxisCoordinate(JointId id, int axis) const {
+  require(axis >= 0 && axis < 6, "jointAxisCoordinate: axis must be 0..5 (x, y, z, rx, ry, rz)");
+  return detail::axisCoordinate(*d_, d_->joint(id), axis);
 }
 
 Vec3 RigidBodySystem::jointForce(JointId id) const { return d_->joint(id).force; }

@@ -2,6 +2,7 @@
 // (JointConstraint). The solver stage is joint_solver.h.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -18,12 +19,15 @@ inline constexpr std::uint32_t kWorldBody = std::numeric_limits<std::uint32_t>::
 /// The parts a joint may use, with their accumulated impulses (kept between steps for warm
 /// starting; each type uses some of them, see joint_solver.cpp).
 struct JointParts {
-  RowBlock<3> point;     ///< Anchors together (ball, hinge, weld).
-  RowBlock<2> offAxis;   ///< Anchors on the axis (slider).
-  RowBlock<3> rotation;  ///< Relative rotation locked (weld, slider).
-  RowBlock<2> aligned;   ///< Hinge axes aligned.
-  RowBlock<3> spin;      ///< Rotation friction (ball).
-  AxisRows axis;         ///< The free coordinate: spring, motor, friction, limits.
+  /// Every locked row of the joint, solved together: a ball joint's anchors (3 rows), a
+  /// hinge's anchors and aligned axes (5), a slider's rotation and off-axis offsets (5), a
+  /// weld's all (6), a six-DOF joint's locked degrees of freedom.
+  RowBlock lock;
+  RowBlock spin;  ///< A ball joint's rotation friction (3 angular rows).
+  AxisRows cone;  ///< A ball joint's swing limit.
+  /// The free degrees of freedom x, y, z, rx, ry, rz of JointRecord::axes (a hinge's angle is
+  /// rx, a slider's position and a distance joint's length x, a ball joint's twist rx).
+  std::array<AxisRows, 6> axes;
 };
 
 struct JointRecord {
@@ -35,13 +39,16 @@ struct JointRecord {
   std::uint32_t bodyA = kWorldBody;  ///< Body slot, or kWorldBody.
   std::uint32_t bodyB = 0;
   /// The joint's frames in the bodies' origin frames (A's in the world's for kWorldBody): the
-  /// anchors, and rotations whose x axis is the joint's axis; they coincide at creation.
+  /// anchors, and rotations whose x axis is the joint's axis; they coincide at creation
+  /// (except a six-DOF joint's, which the user places).
   Transform frameA;
   Transform frameB;
-  std::optional<JointLimits> limits;
-  std::optional<JointMotor> motor;
-  std::optional<JointSpring> spring;
-  Real friction = 0;
+  /// Per degree of freedom (x, y, z, rx, ry, rz of frame A): locked, or free with limits,
+  /// motor, spring and friction. Only the six-DOF joint reads them all.
+  std::array<JointAxis, 6> axes;
+  std::optional<JointSpring> spring;              ///< A weld's or distance joint's.
+  Real friction = 0;                              ///< A ball joint's (N m).
+  std::optional<Real> coneLimit;                  ///< A ball joint's (rad).
   Real length = 0, minLength = 0, maxLength = 0;  ///< Distance joints (m).
   Real reference = 0;  ///< Slider: the anchors' offset along the axis at creation (m).
   Real breakForce = kUnbreakable;
@@ -64,10 +71,8 @@ struct JointConstraint {
   Vec3 deltaCenter = Vec3::Zero();  ///< cB - cA (m).
   Quat frameA = Quat::Identity();   ///< World rotation of the joint's frame on A.
   Quat frameB = Quat::Identity();
-  Softness spring{};                  ///< Of the joint's spring.
-  Softness servo{};                   ///< Of its motor's servo.
   Vec3 fallbackAxis = Vec3::UnitY();  ///< A distance joint's direction when its length is 0.
-  JointParts parts;
+  JointParts* parts = nullptr;        ///< The record's: solved in place, kept for warm starts.
 };
 
 }  // namespace inertia::detail

@@ -3,7 +3,8 @@
 //   J_i = [-l_i, -(rA x l_i + g_i), l_i, rB x l_i + g_i]   (on vA, wA, vB, wB),
 // a linear direction l_i with lever arms rA and rB, plus a pure angular axis g_i. A ball joint's
 // anchors are three linear rows; a hinge's aligned axes two angular rows; a limit, motor or
-// spring on a hinge's angle one angular row. The N rows are solved together as one block:
+// spring on a hinge's angle one angular row. A joint's locked rows are solved together as one
+// block:
 //   lambda = -massScale K^-1 (J v + bias) - impulseScale lambda_acc,   K = J M^-1 J^T,
 // with Box2D v3's soft coefficients (bias rate, mass and impulse scales), which make a rigid
 // row (massScale 1, impulseScale 0) or a spring of given frequency and damping ratio.
@@ -36,20 +37,27 @@ inline JointRow angularRow(const Vec3& axis) {
   return {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), axis};
 }
 
-/// N coupled rows and their accumulated impulse (N s, or N m s for angular rows), kept from
-/// substep to substep and step to step for warm starting.
-template <int N>
+/// Up to six coupled rows and their accumulated impulses (N s, or N m s for angular rows),
+/// kept from substep to substep and step to step for warm starting. A joint's locked rows
+/// form one block, solved together: solved one after another, a light body on a long lever
+/// arm (a pendulum's bob) converges so slowly between its anchor rows and its angular rows that
+/// Baumgarte's feedback grows the error instead of removing it.
 struct RowBlock {
-  using Vector = Eigen::Matrix<Real, N, 1>;
-  using Matrix = Eigen::Matrix<Real, N, N>;
+  static constexpr int kMax = 6;
+  using Vector = Eigen::Matrix<Real, Eigen::Dynamic, 1, 0, kMax, 1>;
+  using Matrix = Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic, 0, kMax, kMax>;
 
-  std::array<JointRow, N> rows{};
-  Vector impulse = Vector::Zero();
+  std::array<JointRow, kMax> rows{};
+  int count = 0;
+  Eigen::Matrix<Real, kMax, 1> impulse = Eigen::Matrix<Real, kMax, 1>::Zero();
+
+  void clear() { count = 0; }
+  void add(const JointRow& row) { rows[std::size_t(count++)] = row; }
 
   /// The relative velocity along the rows, J v.
   Vector velocity(const SolverBody& a, const SolverBody& b) const {
-    Vector c;
-    for (int i = 0; i < N; ++i) {
+    Vector c(count);
+    for (int i = 0; i < count; ++i) {
       const JointRow& r = rows[std::size_t(i)];
       c(i) = r.linear.dot(b.v - a.v) + r.angularB().dot(b.w) - r.angularA().dot(a.w);
     }
@@ -57,24 +65,26 @@ struct RowBlock {
   }
   /// K = J M^-1 J^T.
   Matrix mass(const SolverBody& a, const SolverBody& b) const {
-    std::array<Vec3, N> ja, jb, ia, ib;
-    for (std::size_t i = 0; i < N; ++i) {
+    std::array<Vec3, kMax> ja, jb, ia, ib;
+    for (std::size_t i = 0; i < std::size_t(count); ++i) {
       ja[i] = rows[i].angularA();
       jb[i] = rows[i].angularB();
       ia[i] = a.invInertia * ja[i];
       ib[i] = b.invInertia * jb[i];
     }
-    Matrix k;
-    for (std::size_t i = 0; i < N; ++i)
-      for (std::size_t j = 0; j < N; ++j)
-        k(int(i), int(j)) = (a.invMass + b.invMass) * rows[i].linear.dot(rows[j].linear) +
-                            ja[i].dot(ia[j]) + jb[i].dot(ib[j]);
+    Matrix k(count, count);
+    for (std::size_t i = 0; i < std::size_t(count); ++i)
+      for (std::size_t j = 0; j <= i; ++j)
+        k(int(i), int(j)) = k(int(j), int(i)) =
+            (a.invMass + b.invMass) * rows[i].linear.dot(rows[j].linear) + ja[i].dot(ia[j]) +
+            jb[i].dot(ib[j]);
     return k;
   }
   /// Applies impulses `lambda` along the rows to both bodies.
-  void apply(SolverBody& a, SolverBody& b, const Vector& lambda) const {
+  template <class V>
+  void apply(SolverBody& a, SolverBody& b, const V& lambda) const {
     Vec3 p = Vec3::Zero(), la = Vec3::Zero(), lb = Vec3::Zero();
-    for (std::size_t i = 0; i < N; ++i) {
+    for (std::size_t i = 0; i < std::size_t(count); ++i) {
       p += rows[i].linear * lambda(int(i));
       la += rows[i].angularA() * lambda(int(i));
       lb += rows[i].angularB() * lambda(int(i));
@@ -84,40 +94,33 @@ struct RowBlock {
     b.v += b.invMass * p;
     b.w += b.invInertia * lb;
   }
-  void warmStart(SolverBody& a, SolverBody& b) const { apply(a, b, impulse); }
+  void warmStart(SolverBody& a, SolverBody& b) const { apply(a, b, impulse.head(count)); }
 
-  /// One equality solve towards C = 0 (C the rows' position error, m or rad) with `soft`'s
-  /// coefficients; returns the impulse applied.
-  Vector solve(SolverBody& a, SolverBody& b, const Vector& C, const Softness& soft) {
-    const Matrix k = mass(a, b);
-    Vector delta;
-    if constexpr (N == 1) {
-      delta(0) = k(0, 0) > 0
-                     ? -soft.massScale * (velocity(a, b)(0) + soft.biasRate * C(0)) / k(0, 0)
-                     : Real(0);
-    } else {
-      delta = -soft.massScale * k.ldlt().solve(velocity(a, b) + soft.biasRate * C);
-    }
-    delta -= soft.impulseScale * impulse;
-    impulse += delta;
+  /// One equality solve towards C = 0 (C the rows' position errors, m or rad) with `soft`'s
+  /// coefficients.
+  void solve(SolverBody& a, SolverBody& b, const Vector& C, const Softness& soft) {
+    if (count == 0) return;
+    Vector delta = -soft.massScale * mass(a, b).ldlt().solve(velocity(a, b) + soft.biasRate * C);
+    delta -= soft.impulseScale * impulse.head(count);
+    impulse.head(count) += delta;
     apply(a, b, delta);
-    return delta;
   }
 
   /// A velocity block driven to zero with its accumulated impulse inside a ball of radius
   /// `maxImpulse` (a ball joint's friction torque).
   void solveFriction(SolverBody& a, SolverBody& b, Real maxImpulse) {
-    const Vector old = impulse;
-    impulse -= mass(a, b).ldlt().solve(velocity(a, b));
-    const Real norm = impulse.norm();
-    if (norm > maxImpulse) impulse *= maxImpulse / norm;
-    apply(a, b, impulse - old);
+    const Vector old = impulse.head(count);
+    Vector next = old - mass(a, b).ldlt().solve(velocity(a, b));
+    const Real norm = next.norm();
+    if (norm > maxImpulse) next *= maxImpulse / norm;
+    impulse.head(count) = next;
+    apply(a, b, next - old);
   }
 
   /// The force (or impulse) these rows put on B: the linear part and the torque beyond the
   /// linear part's moment about B's anchor.
   void reaction(Vec3& linear, Vec3& angular) const {
-    for (std::size_t i = 0; i < N; ++i) {
+    for (std::size_t i = 0; i < std::size_t(count); ++i) {
       linear += rows[i].linear * impulse(int(i));
       angular += rows[i].angular * impulse(int(i));
     }

@@ -49,120 +49,262 @@ Real twistAngle(const Quat& qA, const Quat& qB) {
 
 Vec3 axisOf(const Quat& q, int i) { return q * Vec3::Unit(i); }
 
-// The rows of each part a type uses, for the current frame.
-void setRows(JointConstraint& c, const JointRecord& j, const Frame& f) {
-  JointParts& p = c.parts;
+// X-Y-Z Euler angles of qA^-1 qB (B's frame relative to A's: R = Rx(a) Ry(b) Rz(c)), and the
+// world axes whose velocity rows measure their rates: with e1 = A's x, e3 = B's z and
+// e2 = e3 x e1 / |e3 x e1| the relative angular velocity is a' e1 + b' e2 + c' e3, so the
+// rates are its components on the dual basis (Bullet's generic 6-DOF joint, exactly).
+struct EulerFrame {
+  Vec3 angles;
+  std::array<Vec3, 3> rateAxes;
+};
+
+EulerFrame eulerFrame(const Quat& qA, const Quat& qB) {
+  const Mat3 R = (qA.conjugate() * qB).toRotationMatrix();
+  EulerFrame e;
+  e.angles = Vec3(std::atan2(-R(1, 2), R(2, 2)), std::asin(std::clamp(R(0, 2), Real(-1), Real(1))),
+                  std::atan2(-R(0, 1), R(0, 0)));
+  const Vec3 e1 = axisOf(qA, 0), e3 = axisOf(qB, 2);
+  Vec3 e2 = e3.cross(e1);
+  const Real n = e2.norm();
+  // At the gimbal lock (ry = +-pi/2) e1 and e3 align: A's y stands in for e2.
+  e2 = n > Real(1e-6) ? Vec3(e2 / n) : axisOf(qA, 1);
+  const Vec3 d1 = e2.cross(e3), d3 = e1.cross(e2);
+  const Real s1 = e1.dot(d1), s3 = e3.dot(d3);
+  e.rateAxes = {std::abs(s1) > Real(1e-6) ? Vec3(d1 / s1) : e1, e2,
+                std::abs(s3) > Real(1e-6) ? Vec3(d3 / s3) : e3};
+  return e;
+}
+
+// Swing-twist decomposition of qA^-1 qB about the x axis, q = swing twist: the swing's angle
+// (rad, >= 0) and world axis, and the twist angle (rad, in (-pi, pi]).
+struct SwingTwist {
+  Real swing = 0;
+  Vec3 swingAxis = Vec3::UnitY();
+  Real twist = 0;
+};
+
+SwingTwist swingTwist(const Quat& qA, const Quat& qB) {
+  const Quat q = qA.conjugate() * qB;
+  SwingTwist st;
+  st.twist = twistAngle(qA, qB);
+  const Real t = std::hypot(q.w(), q.x());
+  const Quat twist = t > Real(1e-9) ? Quat(q.w() / t, q.x() / t, 0, 0) : Quat::Identity();
+  Quat swing = q * twist.conjugate();
+  if (swing.w() < 0) swing.coeffs() = -swing.coeffs();
+  const Real s = swing.vec().norm();
+  st.swing = 2 * std::atan2(s, swing.w());
+  if (s > Real(1e-9)) st.swingAxis = qA * Vec3(swing.vec() / s);
+  return st;
+}
+
+// The joint's locked rows in the current frame, into p.lock, and their position errors.
+void lockRows(const JointConstraint& c, const JointRecord& j, const Frame& f, JointParts& p,
+              RowBlock::Vector& C) {
+  RowBlock& lock = p.lock;
+  lock.clear();
+  C.resize(RowBlock::kMax);
+  const auto row = [&](const JointRow& r, Real error) {
+    C(lock.count) = error;
+    lock.add(r);
+  };
   const auto anchors = [&] {
-    for (int i = 0; i < 3; ++i) p.point.rows[std::size_t(i)] = linearRow(Vec3::Unit(i), f.rA, f.rB);
+    for (int i = 0; i < 3; ++i) row(linearRow(Vec3::Unit(i), f.rA, f.rB), f.d(i));
   };
   const auto rotation = [&] {
-    for (int i = 0; i < 3; ++i) p.rotation.rows[std::size_t(i)] = angularRow(Vec3::Unit(i));
+    const Vec3 e = rotationError(f.qA, f.qB);
+    for (int i = 0; i < 3; ++i) row(angularRow(Vec3::Unit(i)), e(i));
   };
+  // Rows along A's axes turn with A: their lever arm on A reaches B's anchor (rA + d).
+  const Vec3 armA = f.rA + f.d;
   switch (j.type) {
     case JointType::Ball:
       anchors();
-      for (int i = 0; i < 3; ++i) p.spin.rows[std::size_t(i)] = angularRow(Vec3::Unit(i));
       break;
     case JointType::Hinge: {
       anchors();
       const Vec3 axisB = axisOf(f.qB, 0);
-      // C = (axisB . b, axisB . c) for A's perpendiculars b, c: dC/dt = (wB - wA) . (axisB x b).
-      p.aligned.rows[0] = angularRow(axisB.cross(axisOf(f.qA, 1)));
-      p.aligned.rows[1] = angularRow(axisB.cross(axisOf(f.qA, 2)));
-      p.axis.row = angularRow(axisOf(f.qA, 0));
+      // C = axisB . b for A's perpendiculars b: dC/dt = (wB - wA) . (axisB x b).
+      for (int i = 1; i < 3; ++i) {
+        const Vec3 b = axisOf(f.qA, i);
+        row(angularRow(axisB.cross(b)), axisB.dot(b));
+      }
       break;
     }
-    case JointType::Slider: {
+    case JointType::Slider:
       rotation();
-      // A's axes turn with A: the rows' lever arm on A reaches B's anchor (rA + d).
-      const Vec3 armA = f.rA + f.d;
-      p.offAxis.rows[0] = linearRow(axisOf(f.qA, 1), armA, f.rB);
-      p.offAxis.rows[1] = linearRow(axisOf(f.qA, 2), armA, f.rB);
-      p.axis.row = linearRow(axisOf(f.qA, 0), armA, f.rB);
+      for (int i = 1; i < 3; ++i) {
+        const Vec3 e = axisOf(f.qA, i);
+        row(linearRow(e, armA, f.rB), e.dot(f.d));
+      }
       break;
-    }
     case JointType::Weld:
       anchors();
       rotation();
       break;
+    case JointType::Universal:
+    case JointType::SixDof: {
+      const auto& ax = j.axes;
+      if (ax[0].locked && ax[1].locked && ax[2].locked) {
+        anchors();
+      } else {
+        for (int i = 0; i < 3; ++i)
+          if (ax[std::size_t(i)].locked) {
+            const Vec3 e = axisOf(f.qA, i);
+            row(linearRow(e, armA, f.rB), e.dot(f.d));
+          }
+      }
+      if (ax[3].locked && ax[4].locked && ax[5].locked) {
+        rotation();
+      } else {
+        const EulerFrame e = eulerFrame(f.qA, f.qB);
+        for (int i = 0; i < 3; ++i)
+          if (ax[std::size_t(3 + i)].locked)
+            row(angularRow(e.rateAxes[std::size_t(i)]), e.angles(i));
+      }
+      break;
+    }
+    case JointType::Distance:
+      if (j.minLength == j.maxLength && !j.spring) {
+        const Real length = f.d.norm();
+        row(linearRow(length > Real(1e-6) ? Vec3(f.d / length) : c.fallbackAxis, f.rA, f.rB),
+            length - j.length);
+      }
+      break;
+  }
+  C.conservativeResize(lock.count);
+}
+
+// The rows of the free coordinates in the current frame.
+void freeRows(const JointConstraint& c, const JointRecord& j, const Frame& f, JointParts& p) {
+  const Vec3 armA = f.rA + f.d;
+  switch (j.type) {
+    case JointType::Ball:
+      for (int i = 0; i < 3; ++i) p.spin.rows[std::size_t(i)] = angularRow(Vec3::Unit(i));
+      p.spin.count = 3;
+      p.cone.row = angularRow(swingTwist(f.qA, f.qB).swingAxis);
+      p.axes[3].row = angularRow(axisOf(f.qB, 0));
+      break;
+    case JointType::Hinge:
+      p.axes[3].row = angularRow(axisOf(f.qA, 0));
+      break;
+    case JointType::Slider:
+      p.axes[0].row = linearRow(axisOf(f.qA, 0), armA, f.rB);
+      break;
+    case JointType::Universal:
+    case JointType::SixDof: {
+      for (int i = 0; i < 3; ++i)
+        p.axes[std::size_t(i)].row = linearRow(axisOf(f.qA, i), armA, f.rB);
+      const EulerFrame e = eulerFrame(f.qA, f.qB);
+      for (int i = 0; i < 3; ++i)
+        p.axes[std::size_t(3 + i)].row = angularRow(e.rateAxes[std::size_t(i)]);
+      break;
+    }
+    case JointType::Weld:
+      break;
     case JointType::Distance: {
       const Real length = f.d.norm();
-      const Vec3 n = length > Real(1e-6) ? Vec3(f.d / length) : c.fallbackAxis;
-      p.axis.row = linearRow(n, f.rA, f.rB);
+      p.axes[0].row =
+          linearRow(length > Real(1e-6) ? Vec3(f.d / length) : c.fallbackAxis, f.rA, f.rB);
       break;
     }
   }
 }
 
-// The free coordinate's spring, motor, friction and limits, in Box2D v3's order.
-void driveAxis(JointConstraint& c, const JointRecord& j, SolverBody& a, SolverBody& b,
-               Real coordinate, const JointPass& pass) {
-  AxisRows& ax = c.parts.axis;
-  if (j.spring && !pass.relax)
-    ax.solveSoft(a, b, ax.spring, coordinate - j.spring->rest, c.spring, kInfinity);
-  if (j.motor && j.motor->maxForce > 0) {
-    const Real maxImpulse = j.motor->maxForce * pass.h;
-    if (j.motor->target) {
-      if (!pass.relax)
-        ax.solveSoft(a, b, ax.motor, coordinate - *j.motor->target, c.servo, maxImpulse);
-    } else
-      ax.solveMotor(a, b, ax.motor, j.motor->speed, maxImpulse);
+// A free coordinate's spring, motor, friction and limits, in Box2D v3's order.
+void driveAxis(AxisRows& ax, const JointAxis& axis, SolverBody& a, SolverBody& b, Real coordinate,
+               const JointPass& pass) {
+  if (axis.spring && !pass.relax)
+    ax.solveSoft(a, b, ax.spring, coordinate - axis.spring->rest,
+                 makeSoft(axis.spring->frequency, axis.spring->dampingRatio, pass.h), kInfinity);
+  if (axis.motor && axis.motor->maxForce > 0) {
+    const JointMotor& m = *axis.motor;
+    const Real maxImpulse = m.maxForce * pass.h;
+    if (!m.target)
+      ax.solveMotor(a, b, ax.motor, m.speed, maxImpulse);
+    else if (!pass.relax)
+      ax.solveSoft(a, b, ax.motor, coordinate - *m.target, makeSoft(m.servoFrequency, 1, pass.h),
+                   maxImpulse);
   }
-  if (j.friction > 0) ax.solveMotor(a, b, ax.friction, 0, j.friction * pass.h);
-  if (j.limits) {
-    ax.solveLimit(a, b, ax.lower, coordinate - j.limits->lower, 1, pass.rigid, pass.invH);
-    ax.solveLimit(a, b, ax.upper, j.limits->upper - coordinate, -1, pass.rigid, pass.invH);
+  if (axis.friction > 0) ax.solveMotor(a, b, ax.friction, 0, axis.friction * pass.h);
+  if (axis.limits) {
+    ax.solveLimit(a, b, ax.lower, coordinate - axis.limits->lower, 1, pass.rigid, pass.invH);
+    ax.solveLimit(a, b, ax.upper, axis.limits->upper - coordinate, -1, pass.rigid, pass.invH);
   }
 }
 
-void solveBall(JointConstraint& c, const JointRecord& j, SolverBody& a, SolverBody& b,
-               const Frame& f, const JointPass& pass) {
-  if (j.friction > 0) c.parts.spin.solveFriction(a, b, j.friction * pass.h);
-  c.parts.point.solve(a, b, f.d, pass.rigid);
+void solveBall(JointParts& p, const JointRecord& j, SolverBody& a, SolverBody& b, const Frame& f,
+               const JointPass& pass) {
+  if (j.friction > 0) p.spin.solveFriction(a, b, j.friction * pass.h);
+  if (j.coneLimit || j.axes[3].limits) {
+    const SwingTwist st = swingTwist(f.qA, f.qB);
+    if (j.coneLimit)
+      p.cone.solveLimit(a, b, p.cone.upper, *j.coneLimit - st.swing, -1, pass.rigid, pass.invH);
+    if (j.axes[3].limits) driveAxis(p.axes[3], j.axes[3], a, b, st.twist, pass);
+  }
 }
 
-void solveHinge(JointConstraint& c, const JointRecord& j, SolverBody& a, SolverBody& b,
-                const Frame& f, const JointPass& pass) {
-  driveAxis(c, j, a, b, twistAngle(f.qA, f.qB), pass);
-  const Vec3 axisB = axisOf(f.qB, 0);
-  c.parts.aligned.solve(
-      a, b, Eigen::Matrix<Real, 2, 1>(axisB.dot(axisOf(f.qA, 1)), axisB.dot(axisOf(f.qA, 2))),
-      pass.rigid);
-  // The anchors last: of all the rows, their error shows most (Box2D v3's order).
-  c.parts.point.solve(a, b, f.d, pass.rigid);
+// Every free degree of freedom on its own row (a universal joint is one: rx and ry free).
+void solveSixDof(JointParts& p, const JointRecord& j, SolverBody& a, SolverBody& b, const Frame& f,
+                 const JointPass& pass) {
+  const auto& ax = j.axes;
+  if (!(ax[3].locked && ax[4].locked && ax[5].locked)) {
+    const EulerFrame e = eulerFrame(f.qA, f.qB);
+    for (int i = 0; i < 3; ++i)
+      if (!ax[std::size_t(3 + i)].locked)
+        driveAxis(p.axes[std::size_t(3 + i)], ax[std::size_t(3 + i)], a, b, e.angles(i), pass);
+  }
+  for (int i = 0; i < 3; ++i)
+    if (!ax[std::size_t(i)].locked)
+      driveAxis(p.axes[std::size_t(i)], ax[std::size_t(i)], a, b, axisOf(f.qA, i).dot(f.d), pass);
 }
 
-void solveSlider(JointConstraint& c, const JointRecord& j, SolverBody& a, SolverBody& b,
-                 const Frame& f, const JointPass& pass) {
-  driveAxis(c, j, a, b, axisOf(f.qA, 0).dot(f.d) - j.reference, pass);
-  c.parts.rotation.solve(a, b, rotationError(f.qA, f.qB), pass.rigid);
-  c.parts.offAxis.solve(
-      a, b, Eigen::Matrix<Real, 2, 1>(axisOf(f.qA, 1).dot(f.d), axisOf(f.qA, 2).dot(f.d)),
-      pass.rigid);
-}
-
-void solveWeld(JointConstraint& c, const JointRecord& j, SolverBody& a, SolverBody& b,
-               const Frame& f, const JointPass& pass) {
-  if (j.spring && pass.relax) return;
-  const Softness& soft = j.spring ? c.spring : pass.rigid;
-  c.parts.rotation.solve(a, b, rotationError(f.qA, f.qB), soft);
-  c.parts.point.solve(a, b, f.d, soft);
-}
-
-void solveDistance(JointConstraint& c, const JointRecord& j, SolverBody& a, SolverBody& b,
+void solveDistance(JointParts& p, const JointRecord& j, SolverBody& a, SolverBody& b,
                    const Frame& f, const JointPass& pass) {
-  AxisRows& ax = c.parts.axis;
+  AxisRows& ax = p.axes[0];
   const Real length = f.d.norm();
+  const bool spring = j.spring && !pass.relax;
+  const Softness soft =
+      j.spring ? makeSoft(j.spring->frequency, j.spring->dampingRatio, pass.h) : pass.rigid;
+  if (spring) ax.solveSoft(a, b, ax.spring, length - j.length, soft, kInfinity);
   if (j.minLength < j.maxLength) {
-    if (j.spring && !pass.relax)
-      ax.solveSoft(a, b, ax.spring, length - j.length, c.spring, kInfinity);
     ax.solveLimit(a, b, ax.lower, length - j.minLength, 1, pass.rigid, pass.invH);
     ax.solveLimit(a, b, ax.upper, j.maxLength - length, -1, pass.rigid, pass.invH);
-  } else if (j.spring) {
-    if (!pass.relax) ax.solveSoft(a, b, ax.spring, length - j.length, c.spring, kInfinity);
-  } else {
-    ax.solveSoft(a, b, ax.lock, length - j.length, pass.rigid, kInfinity);
   }
+}
+
+// The free coordinates' rows (springs, motors, friction, limits), then the locked rows as one
+// block: of all the rows, their error shows most (Box2D v3's order).
+void solveRows(const JointConstraint& c, const JointRecord& j, JointParts& p, SolverBody& a,
+               SolverBody& b, const Frame& f, const JointPass& pass) {
+  freeRows(c, j, f, p);
+  switch (j.type) {
+    case JointType::Ball:
+      solveBall(p, j, a, b, f, pass);
+      break;
+    case JointType::Hinge:
+      driveAxis(p.axes[3], j.axes[3], a, b, twistAngle(f.qA, f.qB), pass);
+      break;
+    case JointType::Slider:
+      driveAxis(p.axes[0], j.axes[0], a, b, axisOf(f.qA, 0).dot(f.d) - j.reference, pass);
+      break;
+    case JointType::Universal:
+    case JointType::SixDof:
+      solveSixDof(p, j, a, b, f, pass);
+      break;
+    case JointType::Weld:
+    case JointType::Distance:
+      break;
+  }
+  if (j.type == JointType::Distance) solveDistance(p, j, a, b, f, pass);
+  RowBlock::Vector C;
+  lockRows(c, j, f, p, C);
+  // A soft weld's rows are its spring (which sits out the relax pass, like every spring).
+  if (j.type == JointType::Weld && j.spring) {
+    if (!pass.relax)
+      p.lock.solve(a, b, C, makeSoft(j.spring->frequency, j.spring->dampingRatio, pass.h));
+    return;
+  }
+  p.lock.solve(a, b, C, pass.rigid);
 }
 
 // Runs f(a, b) on copies of the joint's two solver bodies (a zero body for the world or a
@@ -199,7 +341,7 @@ JointPass jointPass(const DynamicsSettings& s, Real h, bool useBias) {
   return pass;
 }
 
-void prepareJoints(RigidBodyData& D, const DynamicsSettings&, Real h, StepWorkers& workers) {
+void prepareJoints(RigidBodyData& D, StepWorkers& workers) {
   workers.parallelFor(D.jointConstraints.size(), [&](std::size_t first, std::size_t last) {
     for (std::size_t k = first; k < last; ++k) {
       JointConstraint& c = D.jointConstraints[k];
@@ -213,11 +355,9 @@ void prepareJoints(RigidBodyData& D, const DynamicsSettings&, Real h, StepWorker
       c.deltaCenter = b.com - comA;
       c.frameA = poseA.q * j.frameA.q;
       c.frameB = b.pose.q * j.frameB.q;
-      c.spring = j.spring ? makeSoft(j.spring->frequency, j.spring->dampingRatio, h) : Softness{};
-      c.servo = j.motor ? makeSoft(j.motor->servoFrequency, 1, h) : Softness{};
       const Vec3 d = c.deltaCenter + c.rB - c.rA;
       c.fallbackAxis = d.norm() > Real(1e-6) ? Vec3(d.normalized()) : axisOf(c.frameA, 0);
-      c.parts = j.parts;
+      c.parts = &D.joints[c.joint].parts;
     }
   });
 }
@@ -225,29 +365,30 @@ void prepareJoints(RigidBodyData& D, const DynamicsSettings&, Real h, StepWorker
 void warmStartJoint(const RigidBodyData& D, JointConstraint& c, std::vector<SolverBody>& bodies) {
   const JointRecord& j = D.joints[c.joint];
   withBodies(c, bodies, [&](SolverBody& a, SolverBody& b) {
-    setRows(c, j, currentFrame(c, a, b));
-    JointParts& p = c.parts;
+    const Frame f = currentFrame(c, a, b);
+    JointParts& p = *c.parts;
+    freeRows(c, j, f, p);
+    RowBlock::Vector C;
+    lockRows(c, j, f, p, C);
+    p.lock.warmStart(a, b);
     switch (j.type) {
       case JointType::Ball:
         p.spin.warmStart(a, b);
-        p.point.warmStart(a, b);
+        p.cone.warmStart(a, b);
+        p.axes[3].warmStart(a, b);
         break;
       case JointType::Hinge:
-        p.axis.warmStart(a, b);
-        p.aligned.warmStart(a, b);
-        p.point.warmStart(a, b);
+        p.axes[3].warmStart(a, b);
         break;
       case JointType::Slider:
-        p.axis.warmStart(a, b);
-        p.rotation.warmStart(a, b);
-        p.offAxis.warmStart(a, b);
+      case JointType::Distance:
+        p.axes[0].warmStart(a, b);
+        break;
+      case JointType::Universal:
+      case JointType::SixDof:
+        for (const AxisRows& ax : p.axes) ax.warmStart(a, b);
         break;
       case JointType::Weld:
-        p.rotation.warmStart(a, b);
-        p.point.warmStart(a, b);
-        break;
-      case JointType::Distance:
-        p.axis.warmStart(a, b);
         break;
     }
   });
@@ -257,35 +398,19 @@ void solveJoint(const RigidBodyData& D, JointConstraint& c, std::vector<SolverBo
                 const JointPass& pass) {
   const JointRecord& j = D.joints[c.joint];
   withBodies(c, bodies, [&](SolverBody& a, SolverBody& b) {
-    const Frame f = currentFrame(c, a, b);
-    setRows(c, j, f);
-    switch (j.type) {
-      case JointType::Ball:
-        return solveBall(c, j, a, b, f, pass);
-      case JointType::Hinge:
-        return solveHinge(c, j, a, b, f, pass);
-      case JointType::Slider:
-        return solveSlider(c, j, a, b, f, pass);
-      case JointType::Weld:
-        return solveWeld(c, j, a, b, f, pass);
-      case JointType::Distance:
-        return solveDistance(c, j, a, b, f, pass);
-    }
+    solveRows(c, j, *c.parts, a, b, currentFrame(c, a, b), pass);
   });
 }
 
 void storeJoints(RigidBodyData& D, Real h) {
-  for (JointConstraint& c : D.jointConstraints) {
+  for (const JointConstraint& c : D.jointConstraints) {
     JointRecord& j = D.joints[c.joint];
-    j.parts = c.parts;
     Vec3 linear = Vec3::Zero(), angular = Vec3::Zero();
-    const JointParts& p = c.parts;
-    p.point.reaction(linear, angular);
-    p.offAxis.reaction(linear, angular);
-    p.rotation.reaction(linear, angular);
-    p.aligned.reaction(linear, angular);
+    const JointParts& p = j.parts;
+    p.lock.reaction(linear, angular);
     p.spin.reaction(linear, angular);
-    p.axis.reaction(linear, angular);
+    p.cone.reaction(linear, angular);
+    for (const AxisRows& ax : p.axes) ax.reaction(linear, angular);
     j.force = linear / h;
     j.torque = angular / h;
     if (j.force.norm() > j.breakForce || j.torque.norm() > j.breakTorque) {
@@ -297,6 +422,15 @@ void storeJoints(RigidBodyData& D, Real h) {
   }
 }
 
+namespace {
+// How far a degree of freedom is outside what its settings allow.
+Real axisError(const JointAxis& axis, Real coordinate) {
+  if (axis.locked) return std::abs(coordinate);
+  if (!axis.limits) return 0;
+  return std::max({axis.limits->lower - coordinate, coordinate - axis.limits->upper, Real(0)});
+}
+}  // namespace
+
 JointError jointError(const RigidBodyData& D, const JointRecord& j) {
   const Transform poseA = j.bodyA == kWorldBody ? Transform{} : D.bodies[j.bodyA].pose;
   const Transform fa = poseA * j.frameA;
@@ -305,9 +439,13 @@ JointError jointError(const RigidBodyData& D, const JointRecord& j) {
   const Vec3 x = axisOf(fa.q, 0);
   JointError e;
   switch (j.type) {
-    case JointType::Ball:
+    case JointType::Ball: {
       e.position = d.norm();
+      const SwingTwist st = swingTwist(fa.q, fb.q);
+      if (j.coneLimit) e.angle += std::max(st.swing - *j.coneLimit, Real(0));
+      e.angle += axisError(j.axes[3], st.twist);
       break;
+    }
     case JointType::Hinge:
       e.position = d.norm();
       e.angle = std::acos(std::clamp(x.dot(axisOf(fb.q, 0)), Real(-1), Real(1)));
@@ -320,6 +458,19 @@ JointError jointError(const RigidBodyData& D, const JointRecord& j) {
       e.position = d.norm();
       e.angle = rotationError(fa.q, fb.q).norm();
       break;
+    case JointType::Universal:
+    case JointType::SixDof: {
+      // Each locked degree of freedom's offset; the limited ones' excess beyond their limits.
+      const EulerFrame ef = eulerFrame(fa.q, fb.q);
+      Vec3 linear, angular;
+      for (int i = 0; i < 3; ++i) {
+        linear(i) = axisError(j.axes[std::size_t(i)], axisOf(fa.q, i).dot(d));
+        angular(i) = axisError(j.axes[std::size_t(3 + i)], ef.angles(i));
+      }
+      e.position = linear.norm();
+      e.angle = angular.norm();
+      break;
+    }
     case JointType::Distance: {
       const Real length = d.norm();
       e.position = std::max({j.minLength - length, length - j.maxLength, Real(0)});
@@ -340,9 +491,19 @@ Real jointCoordinate(const RigidBodyData& D, const JointRecord& j) {
       return axisOf(fa.q, 0).dot(fb.p - fa.p) - j.reference;
     case JointType::Distance:
       return (fb.p - fa.p).norm();
+    case JointType::Ball:
+      return twistAngle(fa.q, fb.q);
     default:
       return 0;
   }
+}
+
+Real axisCoordinate(const RigidBodyData& D, const JointRecord& j, int axis) {
+  const Transform poseA = j.bodyA == kWorldBody ? Transform{} : D.bodies[j.bodyA].pose;
+  const Transform fa = poseA * j.frameA;
+  const Transform fb = D.bodies[j.bodyB].pose * j.frameB;
+  if (axis < 3) return axisOf(fa.q, axis).dot(fb.p - fa.p);
+  return eulerFrame(fa.q, fb.q).angles(axis - 3);
 }
 
 }  // namespace inertia::detail

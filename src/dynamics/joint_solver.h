@@ -49,8 +49,8 @@ void addJointConstraints(RigidBodyData& D, Slot slot) {
   }
 }
 
-/// Frames, anchors and spring coefficients of the joint constraints (after the solver bodies).
-void prepareJoints(RigidBodyData& D, const DynamicsSettings& s, Real h, StepWorkers& workers);
+/// Frames and anchors of the joint constraints at the step's start.
+void prepareJoints(RigidBodyData& D, StepWorkers& workers);
 /// Applies a joint's accumulated impulses to its bodies.
 void warmStartJoint(const RigidBodyData& D, JointConstraint& c, std::vector<SolverBody>& bodies);
 /// One pass over a joint's rows.
@@ -63,7 +63,10 @@ void storeJoints(RigidBodyData& D, Real h);
 /// A joint's error from the bodies' poses (the joint records' columns).
 JointError jointError(const RigidBodyData& D, const JointRecord& j);
 /// The joint's free coordinate from the bodies' poses: hinge angle (rad), slider position (m),
-/// distance (m); 0 for the others.
+/// distance (m), a ball joint's twist (rad); 0 for the others.
 Real jointCoordinate(const RigidBodyData& D, const JointRecord& j);
+/// Degree of freedom `axis` (0..5: x, y, z along frame A's axes, m; rx, ry, rz as X-Y-Z Euler
+/// angles of B's frame relative to A's, rad).
+Real axisCoordinate(const RigidBodyData& D, const JointRecord& j, int axis);
 
 }  // namespace inertia::detail

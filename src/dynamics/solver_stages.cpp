@@ -287,7 +287,7 @@ void prepareContacts(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
   addJointConstraints(D, [&](std::uint32_t bi) { return solverSlot(D, bi); });
   prepareSolverBodies(D, workers);
   const Real h = dt / Real(s.substeps);
-  prepareJoints(D, s, h, workers);
+  prepareJoints(D, workers);
   const Real hertz = std::min(tuning.hertz, Real(0.25) / h);
   const Softness soft = makeSoft(hertz, tuning.dampingRatio, h);
   const Softness staticSoft = makeSoft(2 * hertz, tuning.dampingRatio, h);

@@ -12,6 +12,8 @@
 // measured from the bodies' poses when the joint was created (zero there).
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <string>
@@ -22,9 +24,10 @@
 
 namespace inertia {
 
-enum class JointType : std::uint8_t { Ball, Hinge, Slider, Weld, Distance };
+enum class JointType : std::uint8_t { Ball, Hinge, Slider, Universal, Weld, Distance, SixDof };
 
-/// The scene-file name of a joint type ("ball", "hinge", "slider", "weld", "distance").
+/// The scene-file name of a joint type ("ball", "hinge", "slider", "universal", "weld",
+/// "distance", "six_dof").
 std::string_view jointTypeName(JointType type);
 
 /// Bounds of a joint's free coordinate: an angle (rad) or a position along an axis (m).
@@ -53,18 +56,35 @@ struct JointSpring {
   Real rest = 0;          ///< Rest angle (rad) or position (m); a distance joint's is its length.
 };
 
+/// One degree of freedom of a joint (a six-DOF joint has six: translations along and rotations
+/// about its frame A's axes): locked, or free within optional limits, with an optional motor,
+/// spring and friction.
+struct JointAxis {
+  bool locked = true;
+  std::optional<JointLimits> limits{};
+  std::optional<JointMotor> motor{};
+  std::optional<JointSpring> spring{};  ///< Towards its rest.
+  Real friction = 0;                    ///< Force (N) or torque (N m) resisting motion, >= 0.
+};
+
 inline constexpr Real kUnbreakable = std::numeric_limits<Real>::infinity();
 
-/// Ball-and-socket (spherical): the anchors coincide; rotation is free.
+/// Ball-and-socket (spherical): the anchors coincide; rotation is free, within an optional cone
+/// about the joint's axis (the swing of B's axis from A's) and optional twist limits about it
+/// (shoulders and hips).
 struct BallJointSettings {
   BodyId bodyA{};  ///< Null: the world.
   BodyId bodyB{};
   Vec3 anchorA = Vec3::Zero();      ///< (m, A's frame; world when A is null)
   Vec3 anchorB = Vec3::Zero();      ///< (m, B's frame)
-  Real friction = 0;                ///< Torque resisting rotation (N m, >= 0).
-  Real breakForce = kUnbreakable;   ///< Breaks above this constraint force (N).
-  Real breakTorque = kUnbreakable;  ///< Breaks above this constraint torque (N m).
-  bool collideConnected = false;    ///< The two bodies collide with each other.
+  Vec3 axisA = Vec3::UnitX();       ///< The cone's and twist's axis in A's frame (not zero).
+  Vec3 axisB = Vec3::UnitX();       ///< The same axis in B's frame.
+  std::optional<Real> coneLimit{};  ///< Largest swing angle (rad, in (0, pi)).
+  std::optional<JointLimits> twistLimits{};  ///< Twist about the axis (rad, within [-pi, pi]).
+  Real friction = 0;                         ///< Torque resisting rotation (N m, >= 0).
+  Real breakForce = kUnbreakable;            ///< Breaks above this constraint force (N).
+  Real breakTorque = kUnbreakable;           ///< Breaks above this constraint torque (N m).
+  bool collideConnected = false;             ///< The two bodies collide with each other.
   std::string name{};
 };
 
@@ -97,6 +117,42 @@ struct SliderJointSettings {
   std::optional<JointMotor> motor{};
   std::optional<JointSpring> spring{};  ///< Towards the rest position.
   Real friction = 0;                    ///< Force resisting sliding (N, >= 0).
+  Real breakForce = kUnbreakable;
+  Real breakTorque = kUnbreakable;
+  bool collideConnected = false;
+  std::string name{};
+};
+
+/// Universal (Cardan): the anchors coincide; A turns about axisA, B about axisB, and the two
+/// axes stay perpendicular (they must be perpendicular at creation). Each angle has its own
+/// limits.
+struct UniversalJointSettings {
+  BodyId bodyA{};
+  BodyId bodyB{};
+  Vec3 anchorA = Vec3::Zero();
+  Vec3 anchorB = Vec3::Zero();
+  Vec3 axisA = Vec3::UnitX();            ///< In A's frame.
+  Vec3 axisB = Vec3::UnitY();            ///< In B's frame; perpendicular to axisA at creation.
+  std::optional<JointLimits> limitsA{};  ///< Angle about axisA (rad, within [-pi, pi]).
+  std::optional<JointLimits> limitsB{};  ///< Angle about axisB (rad, within [-pi/2, pi/2]).
+  Real breakForce = kUnbreakable;
+  Real breakTorque = kUnbreakable;
+  bool collideConnected = false;
+  std::string name{};
+};
+
+/// Six degrees of freedom (the seeds' N-DOF joint): frames on A and B (each in its body's
+/// frame; A's in the world's for a null A); the translations of B's frame origin along A's
+/// frame axes x, y, z and the rotations of B's frame relative to A's as X-Y-Z Euler angles rx,
+/// ry, rz, each locked, free or limited, with a motor, spring and friction. Every other type
+/// is one (a hinge: all locked but rx). ry must stay within (-pi/2, pi/2) (the Euler angles'
+/// gimbal lock); rx and rz within [-pi, pi].
+struct SixDofJointSettings {
+  BodyId bodyA{};
+  BodyId bodyB{};
+  Transform frameA{};               ///< (m, A's frame)
+  Transform frameB{};               ///< (m, B's frame)
+  std::array<JointAxis, 6> axes{};  ///< x, y, z, rx, ry, rz; all locked by default (a weld).
   Real breakForce = kUnbreakable;
   Real breakTorque = kUnbreakable;
   bool collideConnected = false;

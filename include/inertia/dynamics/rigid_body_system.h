@@ -14,9 +14,9 @@
 #include "inertia/collision/queries.h"
 #include "inertia/core/thread_pool.h"
 #include "inertia/core/types.h"
-#include "inertia/geometry/bounds.h"
 #include "inertia/dynamics/body.h"
 #include "inertia/dynamics/joint.h"
+#include "inertia/geometry/bounds.h"
 #include "inertia/geometry/shapes.h"
 #include "inertia/ode/method.h"
 
@@ -205,6 +205,8 @@ class RigidBodySystem {
   JointId createJoint(const BallJointSettings& settings);
   JointId createJoint(const HingeJointSettings& settings);
   JointId createJoint(const SliderJointSettings& settings);
+  JointId createJoint(const UniversalJointSettings& settings);
+  JointId createJoint(const SixDofJointSettings& settings);
   JointId createJoint(const WeldJointSettings& settings);
   JointId createJoint(const DistanceJointSettings& settings);
   /// Removes a joint (destroying a body removes its joints); the id becomes invalid.
@@ -224,12 +226,17 @@ class RigidBodySystem {
   void setJointMotor(JointId id, const std::optional<JointMotor>& motor);
   void setJointLimits(JointId id, const std::optional<JointLimits>& limits);
   void setJointSpring(JointId id, const std::optional<JointSpring>& spring);
+  /// A six-DOF joint's degree of freedom `axis` (0..5: x, y, z, rx, ry, rz).
+  void setJointAxis(JointId id, int axis, const JointAxis& settings);
   /// Last step's constraint force on body B at its anchor (N, world), and torque (N m).
   Vec3 jointForce(JointId id) const;
   Vec3 jointTorque(JointId id) const;
   /// The free coordinate now: a hinge's angle (rad), a slider's position (m), a distance
-  /// joint's length (m); 0 for the others.
+  /// joint's length (m), a ball joint's twist (rad); 0 for the others.
   Real jointCoordinate(JointId id) const;
+  /// Degree of freedom `axis` (0..5) of any joint's frames now: B's frame origin along A's
+  /// frame axes x, y, z (m), and B's frame relative to A's as X-Y-Z Euler angles (rad).
+  Real jointAxisCoordinate(JointId id, int axis) const;
   JointError jointError(JointId id) const;
   /// The anchors in world coordinates (m).
   Vec3 jointAnchorA(JointId id) const;
