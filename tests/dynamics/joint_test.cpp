@@ -494,3 +494,89 @@ TEST(JointUniversal, OutputShaftFollowsCardansLaw) {
   }
   EXPECT_LT(worst, Real(0.001) * w1);
 }
+
+// A snapshot (World::saveState) carries the joints with their warm-start impulses: the
+// restored world continues bit-identically.
+TEST(JointWorld, RestoredStateContinuesBitIdentically) {
+  Chain c(10, 5);
+  for (int i = 0; i < 30; ++i) c.world.step(kDt);
+  const World::State saved = c.world.saveState();
+  for (int i = 0; i < 30; ++i) c.world.step(kDt);
+  const Transform first = c.world.transform(c.bob);
+  c.world.restoreState(saved);
+  for (int i = 0; i < 30; ++i) c.world.step(kDt);
+  const Transform again = c.world.transform(c.bob);
+  EXPECT_EQ(0, std::memcmp(first.p.data(), again.p.data(), sizeof(Real) * 3));
+  EXPECT_EQ(0, std::memcmp(first.q.coeffs().data(), again.q.coeffs().data(), sizeof(Real) * 4));
+}
+
+// Jointed bodies are one island: a chain hanging at rest falls asleep whole, and a push on its
+// last link wakes every link.
+TEST(JointWorld, JointedBodiesSleepAndWakeTogether) {
+  WorldSettings s = quietWorld();
+  s.sleeping = true;
+  World world(s);
+  std::vector<BodyId> links;
+  BodyId previous;
+  for (int i = 0; i < 5; ++i) {
+    const BodyId link = world.createBody({.position = Vec3(0, -Real(0.5) - Real(i), 0)});
+    world.addShape(link, Sphere{Real(0.2)});
+    world.createJoint(
+        BallJointSettings{.bodyA = previous,
+                          .bodyB = link,
+                          .anchorA = previous.isNull() ? Vec3::Zero() : Vec3(0, Real(-0.5), 0),
+                          .anchorB = Vec3(0, Real(0.5), 0)});
+    links.push_back(link);
+    previous = link;
+  }
+  for (int i = 0; i < 120; ++i) world.step(kDt);
+  for (BodyId b : links) EXPECT_FALSE(world.rigidBodies().isAwake(b));
+  world.rigidBodies().applyImpulse(links.back(), Vec3(1, 0, 0), world.transform(links.back()).p);
+  world.step(kDt);
+  for (BodyId b : links) EXPECT_TRUE(world.rigidBodies().isAwake(b));
+  EXPECT_GT(world.linearVelocity(links.front()).norm(), 0);  // the push reached the top
+}
+
+// collideConnected: two boxes overlapping at their joint do not push each other apart unless
+// asked to; a disabled (or broken) joint no longer filters them.
+TEST(JointWorld, CollideConnectedFiltersTheJointedPair) {
+  for (bool collide : {false, true}) {
+    WorldSettings s = quietWorld();
+    s.gravity = Vec3::Zero();
+    World world(s);
+    const BodyId a = world.createBody({.position = Vec3(0, 0, 0)});
+    const BodyId b = world.createBody({.position = Vec3(Real(0.8), 0, 0)});
+    world.addShape(a, Box{Vec3::Constant(Real(0.5))});
+    world.addShape(b, Box{Vec3::Constant(Real(0.5))});
+    const JointId j = world.createJoint(DistanceJointSettings{
+        .bodyA = a, .bodyB = b, .minLength = 0, .maxLength = 10, .collideConnected = collide});
+    for (int i = 0; i < 30; ++i) world.step(kDt);
+    const Real gap = world.transform(b).p.x() - world.transform(a).p.x();
+    if (collide)
+      EXPECT_GT(gap, Real(0.99));  // pushed apart to touching
+    else
+      EXPECT_NEAR(gap, Real(0.8), Real(1e-5));
+    if (!collide) {
+      world.rigidBodies().setJointEnabled(j, false);
+      for (int i = 0; i < 30; ++i) world.step(kDt);
+      EXPECT_GT(world.transform(b).p.x() - world.transform(a).p.x(), Real(0.99));
+    }
+  }
+}
+
+// A kinematic body drives what it is jointed to: a box welded under a kinematic body moving at
+// 1 m/s follows it, off only by the soft weld's static deflection under the box's weight,
+// g / (2 pi 120 Hz)^2 = 2e-5 m, and keeps its rotation.
+TEST(JointWorld, KinematicBodyDrivesItsJoint) {
+  World world(quietWorld());
+  const BodyId driver =
+      world.createBody({.type = BodyType::Kinematic, .linearVelocity = Vec3(1, 0, 0)});
+  const BodyId box = world.createBody({.position = Vec3(0, -1, 0)});
+  world.addShape(box, Box{Vec3::Constant(Real(0.2))});
+  const JointId j =
+      world.createJoint(WeldJointSettings{.bodyA = driver, .bodyB = box, .anchorB = Vec3(0, 1, 0)});
+  for (int i = 0; i < 60; ++i) world.step(kDt);
+  EXPECT_NEAR(world.transform(box).p.x(), world.transform(driver).p.x(), Real(1e-3));
+  EXPECT_NEAR(world.linearVelocity(box).x(), 1, Real(1e-3));
+  EXPECT_LT(world.rigidBodies().jointError(j).angle, Real(1e-3));
+}
