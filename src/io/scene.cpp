@@ -4,6 +4,8 @@
 #include <sstream>
 
 #include "bodies_section.h"
+#include "inertia/core/error.h"
+#include "joints_section.h"
 #include "json_reader.h"
 #include "particles_section.h"
 
@@ -123,7 +125,11 @@ Scene parseScene(const std::string& text, const std::filesystem::path& name) {
     for (std::size_t i = 0; i < list.requireArray(); ++i)
       detail::readBodies(list.at(i), i, materials, scene.bodies);
   }
-  requireEmpty(n, "joints", false, "joints");
+  if (n.has("joints")) {
+    Node list = n.at("joints");
+    for (std::size_t i = 0; i < list.requireArray(); ++i)
+      scene.joints.push_back(detail::readJoint(list.at(i), i, scene.bodies));
+  }
   if (n.has("particle_systems")) {
     Node list = n.at("particle_systems");
     for (std::size_t i = 0; i < list.requireArray(); ++i)
@@ -146,7 +152,24 @@ Scene loadScene(const std::filesystem::path& file) {
 
 std::unique_ptr<World> instantiate(const Scene& scene) {
   auto world = std::make_unique<World>(scene.world);
-  for (const BodyDesc& d : scene.bodies) addBody(*world, d);
+  std::vector<BodyId> bodies;
+  bodies.reserve(scene.bodies.size());
+  for (const BodyDesc& d : scene.bodies) bodies.push_back(addBody(*world, d));
+  for (const JointDesc& d : scene.joints) {
+    std::visit(
+        [&](auto settings) {
+          settings.bodyA = d.bodyA ? bodies.at(*d.bodyA) : BodyId{};
+          settings.bodyB = bodies.at(d.bodyB);
+          // The loader checks what it can see; the rest (what createJoint alone knows) is
+          // reported at the joint.
+          try {
+            world->createJoint(settings);
+          } catch (const InvalidArgument& e) {
+            throw SceneError(scene.file.string(), d.pointer, e.what());
+          }
+        },
+        d.settings);
+  }
   // Emitters attached by name (checked unique when read) get the body's id.
   auto bodyNamed = [&](const std::string& name) {
     for (BodyId id : world->rigidBodies().bodies())

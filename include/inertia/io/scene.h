@@ -7,9 +7,11 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "inertia/core/types.h"
+#include "inertia/dynamics/joint.h"
 #include "inertia/particles/particle_system.h"
 #include "inertia/world/builders.h"
 #include "inertia/world/world.h"
@@ -45,12 +47,24 @@ struct ParticleSystemDesc {
   std::vector<Obstacle> obstacles;
 };
 
+/// A joint as described in a scene: its settings, with the bodies given as indices into
+/// Scene::bodies (the settings' bodyA and bodyB are filled in by instantiate()).
+struct JointDesc {
+  std::variant<BallJointSettings, HingeJointSettings, SliderJointSettings, WeldJointSettings,
+               DistanceJointSettings>
+      settings;
+  std::optional<std::size_t> bodyA;  ///< Index into Scene::bodies; none: the world.
+  std::size_t bodyB = 0;             ///< Index into Scene::bodies.
+  std::string pointer;               ///< Its JSON pointer ("/joints/2"), for errors.
+};
+
 /// A scene as read from a file: plain data, checked, not yet simulated.
 struct Scene {
   std::filesystem::path file;  ///< Where it was read from (for relative paths and messages).
   WorldSettings world;
   std::optional<Camera> camera;
   std::vector<BodyDesc> bodies;  ///< Generators already expanded, in file order.
+  std::vector<JointDesc> joints;  ///< In file order (the order instantiate() creates them).
   std::vector<ParticleSystemDesc> particleSystems;
 };
 
@@ -62,7 +76,8 @@ Scene loadScene(const std::filesystem::path& file);
 /// its directory).
 Scene parseScene(const std::string& text, const std::filesystem::path& name);
 
-/// Builds a world from a scene.
+/// Builds a world from a scene. Throws InvalidArgument as World::createBody does, and
+/// SceneError naming the joint's JSON pointer when World::createJoint refuses a joint.
 std::unique_ptr<World> instantiate(const Scene& scene);
 
 }  // namespace inertia::io
