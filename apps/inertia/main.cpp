@@ -51,6 +51,8 @@ int main(int argc, char** argv) {
   runCmd->add_option("--record-every", run.recordEvery, "Record every K-th step")
       ->check(CLI::Range(std::int64_t(1), std::int64_t(1) << 40));
   runCmd->add_option("--record-particles", run.recordParticles, "Write particle states as CSV");
+  runCmd->add_option("--record-joints", run.recordJoints,
+                     "Write joint forces, torques, errors and breaks as CSV");
   runCmd->add_option("--stats", run.stats, "Write a JSON summary");
   runCmd->add_option("--energy", run.energy,
                      "Write kinetic, potential, total energy and momenta per step as CSV");

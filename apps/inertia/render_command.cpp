@@ -8,7 +8,6 @@
 
 #include "camera.h"
 #include "frame_writer.h"
-#include "inertia/core/error.h"
 #include "inertia/io/scene.h"
 #include "offscreen.h"
 #include "progress.h"
@@ -78,13 +77,8 @@ int renderScene(const RenderOptions& o) {
   io::Scene scene;
   if (!loadSceneReporting(o.scene, scene)) return kBadInput;
   if (o.threads) scene.world.threads = *o.threads;
-  std::unique_ptr<World> world;
-  try {
-    world = io::instantiate(scene);
-  } catch (const InvalidArgument& e) {
-    std::fprintf(stderr, "inertia: %s: %s\n", o.scene.c_str(), e.what());
-    return kBadInput;
-  }
+  std::unique_ptr<World> world = instantiateReporting(o.scene, scene);
+  if (!world) return kBadInput;
 
   // Frame k shows the state after round(t_k / dt) whole fixed steps, t_k = k / fps (no
   // interpolation between steps): frame k is exactly what `inertia run --steps` reaches.

@@ -1,10 +1,12 @@
 #include "run_command.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <memory>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -37,6 +39,26 @@ nlohmann::json particleStats(const World& world) {
   return list;
 }
 
+int brokenJoints(const World& world) {
+  const RigidBodySystem& rb = world.rigidBodies();
+  int broken = 0;
+  for (JointId id : rb.joints()) broken += rb.isJointBroken(id) ? 1 : 0;
+  return broken;
+}
+
+// A joint's name in recordings and messages: its name, or its index when unnamed.
+std::string jointLabel(const RigidBodySystem& rb, JointId id, std::size_t index) {
+  const std::string_view name = rb.jointName(id);
+  return name.empty() ? std::to_string(index) : std::string(name);
+}
+
+// A joint that broke during the run, for the summary.
+struct Break {
+  double time;
+  std::string joint;
+  Vec3 force, torque;
+};
+
 nlohmann::json statsJson(const World& world, double wallTime) {
   const PhaseTimes& p = world.phaseTimes();
   return {
@@ -45,6 +67,8 @@ nlohmann::json statsJson(const World& world, double wallTime) {
       {"wall_time", wallTime},
       {"bodies", world.bodyCount()},
       {"contacts", world.contactCount()},
+      {"joints", world.rigidBodies().jointCount()},
+      {"broken_joints", brokenJoints(world)},
       {"phases",
        {{"broad_phase", p.broadPhase},
         {"narrow_phase", p.narrowPhase},
@@ -65,6 +89,17 @@ bool loadSceneReporting(const std::string& file, io::Scene& scene) {
     std::fprintf(stderr, "inertia: %s\n", e.what());
     return false;
   }
+}
+
+std::unique_ptr<World> instantiateReporting(const std::string& file, const io::Scene& scene) {
+  try {
+    return io::instantiate(scene);
+  } catch (const io::SceneError& e) {
+    std::fprintf(stderr, "inertia: %s\n", e.what());
+  } catch (const InvalidArgument& e) {
+    std::fprintf(stderr, "inertia: %s: %s\n", file.c_str(), e.what());
+  }
+  return nullptr;
 }
 
 int runScene(const RunOptions& o) {
@@ -95,13 +130,8 @@ int runScene(const RunOptions& o) {
     steps = std::max<std::int64_t>(1, std::int64_t(n));
   }
 
-  std::unique_ptr<World> world;
-  try {
-    world = io::instantiate(scene);
-  } catch (const InvalidArgument& e) {
-    std::fprintf(stderr, "inertia: %s: %s\n", o.scene.c_str(), e.what());
-    return kBadInput;
-  }
+  std::unique_ptr<World> world = instantiateReporting(o.scene, scene);
+  if (!world) return kBadInput;
 
   std::unique_ptr<io::BodyRecorder> recorder;
   std::unique_ptr<io::ParticleRecorder> particleRecorder;
@@ -118,6 +148,14 @@ int runScene(const RunOptions& o) {
     std::fprintf(stderr, "inertia: --record-particles: %s\n", e.what());
     return kBadInput;
   }
+  std::unique_ptr<io::JointRecorder> jointRecorder;
+  try {
+    if (!o.recordJoints.empty())
+      jointRecorder = std::make_unique<io::JointRecorder>(o.recordJoints);
+  } catch (const std::runtime_error& e) {
+    std::fprintf(stderr, "inertia: --record-joints: %s\n", e.what());
+    return kBadInput;
+  }
   std::unique_ptr<EnergyLog> energyLog;
   try {
     if (!o.energy.empty()) energyLog = std::make_unique<EnergyLog>(o.energy);
@@ -128,6 +166,10 @@ int runScene(const RunOptions& o) {
   std::vector<Real> gravityScale;  // per body, in creation order (as bodies() lists them)
   for (const BodyDesc& d : scene.bodies) gravityScale.push_back(d.settings.gravityScale);
   const std::vector<BodyId> bodyIds = world->rigidBodies().bodies();
+  const std::vector<JointId> jointIds = world->rigidBodies().joints();
+  std::vector<std::string> jointLabels;
+  for (std::size_t i = 0; i < jointIds.size(); ++i)
+    jointLabels.push_back(jointLabel(world->rigidBodies(), jointIds[i], i));
   auto record = [&] {
     if (recorder) {
       const RigidBodySystem& rb = world->rigidBodies();
@@ -139,12 +181,21 @@ int runScene(const RunOptions& o) {
                         rb.angularVelocity(id));
       }
     }
+    if (jointRecorder) {
+      const RigidBodySystem& rb = world->rigidBodies();
+      for (std::size_t i = 0; i < jointIds.size(); ++i) {
+        const JointId id = jointIds[i];
+        jointRecorder->write(Real(world->time()), jointLabels[i], rb.isJointBroken(id),
+                             rb.jointForce(id), rb.jointTorque(id), rb.jointError(id));
+      }
+    }
     if (!particleRecorder) return;
     for (ParticleSystemId id : world->particleSystems()) {
       const ParticleSystem& ps = world->particleSystem(id);
       particleRecorder->write(Real(world->time()), ps.name(), ps.pool());
     }
   };
+  std::vector<Break> breaks;  // reported once each, in the summary
 
   Progress progress(!o.quiet, steps, "step");
   double wall = 0;
@@ -154,6 +205,13 @@ int runScene(const RunOptions& o) {
     auto t0 = Clock::now();
     world->step(scene.world.dt);
     wall += seconds(Clock::now() - t0);
+    for (const JointEvent& e : world->rigidBodies().jointEvents()) {
+      const auto at = std::find(jointIds.begin(), jointIds.end(), e.joint);
+      const std::string label = at == jointIds.end()
+                                    ? std::to_string(e.joint.index)
+                                    : jointLabels[std::size_t(at - jointIds.begin())];
+      breaks.push_back({world->time(), label, e.force, e.torque});
+    }
     if ((i + 1) % o.recordEvery == 0) record();
     if (energyLog) energyLog->write(measureEnergy(*world, gravityScale));
     progress.update(i + 1);
@@ -161,6 +219,7 @@ int runScene(const RunOptions& o) {
   progress.finish();
   if (recorder) recorder->close();
   if (particleRecorder) particleRecorder->close();
+  if (jointRecorder) jointRecorder->close();
   if (energyLog) energyLog->close();
 
   if (!o.stats.empty()) {
@@ -175,6 +234,11 @@ int runScene(const RunOptions& o) {
     std::printf("%s: %lld steps, %.4g s simulated in %.4g s of stepping; %d bodies, %d contacts\n",
                 o.scene.c_str(), (long long)world->stepCount(), world->time(), wall,
                 world->bodyCount(), world->contactCount());
+    if (!jointIds.empty())
+      std::printf("  %zu joints, %d broken\n", jointIds.size(), brokenJoints(*world));
+    for (const Break& b : breaks)
+      std::printf("  joint \"%s\" broke at %.4g s (force %.4g N, torque %.4g N m)\n",
+                  b.joint.c_str(), b.time, double(b.force.norm()), double(b.torque.norm()));
     for (ParticleSystemId id : world->particleSystems()) {
       const ParticleSystem& ps = world->particleSystem(id);
       const ParticleStats s = ps.stats();
@@ -187,11 +251,14 @@ int runScene(const RunOptions& o) {
 
 int validateScene(const std::string& file) {
   try {
+    // Loading checks what the file says; instantiating, what only the library knows (the
+    // joints' settings against the bodies' poses, shapes' mass properties).
     io::Scene scene = io::loadScene(file);
     io::instantiate(scene);
     const WorldSettings& w = scene.world;
-    std::printf("%s: ok (dt %g s, %d substeps, solver %s, integrator %s)\n", file.c_str(),
-                double(w.dt), w.substeps, std::string(solverName(w.solver.type)).c_str(),
+    std::printf("%s: ok (%zu bodies, %zu joints; dt %g s, %d substeps, solver %s, integrator %s)\n",
+                file.c_str(), scene.bodies.size(), scene.joints.size(), double(w.dt), w.substeps,
+                std::string(solverName(w.solver.type)).c_str(),
                 std::string(ode::methodName(w.integrator)).c_str());
     return kOk;
   } catch (const io::SceneError& e) {

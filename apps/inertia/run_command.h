@@ -2,9 +2,13 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 
+namespace inertia {
+class World;
+}
 namespace inertia::io {
 struct Scene;
 }
@@ -24,6 +28,7 @@ struct RunOptions {
   std::int64_t recordEvery = 1;       ///< Record every K-th step.
   std::string stats;                  ///< JSON summary.
   std::string recordParticles;        ///< Particle CSV (DESIGN.md section 6).
+  std::string recordJoints;           ///< Joint CSV (DESIGN.md section 6).
   std::string energy;                 ///< Energy and momenta per step (CSV).
   bool quiet = false;                 ///< No summary or progress on the terminal.
 };
@@ -33,6 +38,9 @@ int runScene(const RunOptions& options);
 /// Loads a scene file into `scene`; on a SceneError prints it (file, JSON pointer, reason) and
 /// returns false, for the commands to exit with kBadInput.
 bool loadSceneReporting(const std::string& file, io::Scene& scene);
+/// Builds the world of a loaded scene; on an invalid body or joint prints what is wrong (the
+/// file, and the joint's JSON pointer) and returns null, for the commands to exit with kBadInput.
+std::unique_ptr<World> instantiateReporting(const std::string& file, const io::Scene& scene);
 int validateScene(const std::string& scene);
 
 }  // namespace inertia::app

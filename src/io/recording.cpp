@@ -48,6 +48,42 @@ void BodyRecorder::close() {
   if (failed) throw std::runtime_error(path_.string() + ": write failed");
 }
 
+JointRecorder::JointRecorder(const std::filesystem::path& file) : path_(file) {
+  file_ = std::fopen(file.c_str(), "wb");
+  if (!file_) throw std::runtime_error(file.string() + ": cannot be opened for writing");
+  std::fwrite(kHeader.data(), 1, kHeader.size(), file_);
+  std::fputc('\n', file_);
+}
+
+JointRecorder::~JointRecorder() {
+  if (file_) std::fclose(file_);
+}
+
+void JointRecorder::write(Real time, std::string_view joint, bool broken, const Vec3& force,
+                          const Vec3& torque, const JointError& error) {
+  line_.clear();
+  appendReal(line_, time);
+  line_ += ',';
+  line_ += joint;
+  line_ += broken ? ",1" : ",0";
+  const Real values[] = {force.x(),  force.y(),  force.z(),      torque.x(),
+                         torque.y(), torque.z(), error.position, error.angle};
+  for (Real x : values) {
+    line_ += ',';
+    appendReal(line_, x);
+  }
+  line_ += '\n';
+  std::fwrite(line_.data(), 1, line_.size(), file_);
+}
+
+void JointRecorder::close() {
+  if (!file_) return;
+  bool failed = std::ferror(file_) != 0;
+  failed |= std::fclose(file_) != 0;
+  file_ = nullptr;
+  if (failed) throw std::runtime_error(path_.string() + ": write failed");
+}
+
 ParticleRecorder::ParticleRecorder(const std::filesystem::path& file) : path_(file) {
   file_ = std::fopen(file.c_str(), "wb");
   if (!file_) throw std::runtime_error(file.string() + ": cannot be opened for writing");

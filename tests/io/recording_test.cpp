@@ -54,3 +54,20 @@ TEST(Recording, ValuesRoundTrip) {
 TEST(Recording, UnwritableFileIsAnError) {
   EXPECT_THROW(io::BodyRecorder("/nonexistent/dir/out.csv"), std::runtime_error);
 }
+
+TEST(Recording, JointHeaderAndRowFormat) {
+  auto path = std::filesystem::temp_directory_path() / "inertia_joint_recording_test.csv";
+  {
+    io::JointRecorder r(path);
+    r.write(Real(0.25), "elbow", false, Vec3(0, Real(19.5), 0), Vec3(0, 0, Real(-2.5)),
+            JointError{.position = Real(0.125), .angle = Real(0.0625)});
+    r.write(Real(0.5), "3", true, Vec3::Zero(), Vec3::Zero(), JointError{});
+    r.close();
+  }
+  EXPECT_EQ(readFile(path),
+            "time,joint,broken,fx,fy,fz,tx,ty,tz,position_error,angle_error\n"
+            "0.25,elbow,0,0,19.5,0,0,0,-2.5,0.125,0.0625\n"
+            "0.5,3,1,0,0,0,0,0,0,0,0\n");
+  std::filesystem::remove(path);
+  EXPECT_THROW(io::JointRecorder("/nonexistent/dir/joints.csv"), std::runtime_error);
+}

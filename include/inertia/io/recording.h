@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "inertia/core/types.h"
+#include "inertia/dynamics/joint.h"
 #include "inertia/particles/pool.h"
 
 namespace inertia::io {
@@ -63,6 +64,33 @@ class ParticleRecorder {
   std::filesystem::path path_;
   std::FILE* file_ = nullptr;
   std::string buffer_;
+};
+
+/// Writes `time,joint,broken,fx,fy,fz,tx,ty,tz,position_error,angle_error` rows, one per joint
+/// per recorded step.
+class JointRecorder {
+ public:
+  /// Opens `file` and writes the header; throws std::runtime_error naming the file on failure.
+  explicit JointRecorder(const std::filesystem::path& file);
+  ~JointRecorder();
+  JointRecorder(const JointRecorder&) = delete;
+  JointRecorder& operator=(const JointRecorder&) = delete;
+
+  static constexpr std::string_view kHeader =
+      "time,joint,broken,fx,fy,fz,tx,ty,tz,position_error,angle_error";
+
+  /// One row: `joint` is the joint's name (its index when unnamed); `force` (N) and `torque`
+  /// (N m) are the constraint's on body B in world axes (RigidBodySystem::jointForce and
+  /// jointTorque); `error` is RigidBodySystem::jointError (m and rad).
+  void write(Real time, std::string_view joint, bool broken, const Vec3& force, const Vec3& torque,
+             const JointError& error);
+  /// Flushes; throws std::runtime_error when the write failed.
+  void close();
+
+ private:
+  std::filesystem::path path_;
+  std::FILE* file_ = nullptr;
+  std::string line_;
 };
 
 }  // namespace inertia::io
