@@ -40,6 +40,10 @@ const Eigen::Vector3f kSleepingBox(0.15f, 0.2f, 0.55f);
 const Eigen::Vector3f kLinear(0.1f, 0.8f, 0.2f);
 const Eigen::Vector3f kAngular(0.85f, 0.2f, 0.85f);
 const Eigen::Vector3f kTreeLeaf(0.6f, 0.6f, 0.6f);
+const Eigen::Vector3f kJointBone(0.9f, 0.9f, 0.9f);
+const Eigen::Vector3f kJointAxis(0.2f, 0.9f, 0.9f);
+const Eigen::Vector3f kJointLimit(1.0f, 0.55f, 0.1f);
+const Eigen::Vector3f kJointBroken(0.9f, 0.15f, 0.1f);
 
 void cross(DebugLines& out, const Vec3& p, Real size, const Eigen::Vector3f& color) {
   for (int k = 0; k < 3; ++k) {
@@ -59,6 +63,32 @@ void box(DebugLines& out, const Aabb& b, const Eigen::Vector3f& color,
   for (int i = 0; i < 8; ++i)
     for (int bit : {1, 2, 4})
       if (!(i & bit)) out.add(corner(i), corner(i | bit), color);
+}
+
+// A joint: bones from the bodies' centres to the anchors, the anchors, its axis, a hinge's
+// limits as two spokes about the axis; a broken or disabled joint as red anchors only.
+void joint(DebugLines& out, const RigidBodySystem& rb, JointId j, Real scale) {
+  const Transform a = rb.jointFrameA(j), b = rb.jointFrameB(j);
+  const Real size = Real(0.06) * scale;
+  if (!rb.isJointEnabled(j)) {
+    cross(out, a.p, size, kJointBroken);
+    cross(out, b.p, size, kJointBroken);
+    return;
+  }
+  if (const BodyId body = rb.jointBodyA(j); !body.isNull())
+    out.add(rb.centerOfMass(body), a.p, kJointBone);
+  out.add(rb.centerOfMass(rb.jointBodyB(j)), b.p, kJointBone);
+  cross(out, a.p, size, kJointBone);
+  const JointType type = rb.jointType(j);
+  if (type == JointType::Weld || type == JointType::Distance) return;
+  const Vec3 axis = a.rotate(Vec3::UnitX());
+  out.add(a.p - Real(0.25) * scale * axis, a.p + Real(0.25) * scale * axis, kJointAxis);
+  const JointAxis& angle = rb.jointAxis(j, 3);
+  if (type == JointType::Hinge && angle.limits)
+    for (Real limit : {angle.limits->lower, angle.limits->upper}) {
+      const Vec3 spoke = a.rotate(Vec3(0, std::cos(limit), std::sin(limit)));
+      out.add(a.p, a.p + Real(0.3) * scale * spoke, kJointLimit);
+    }
 }
 
 }  // namespace
@@ -84,6 +114,8 @@ void buildDebugLines(const World& world, const DebugDrawFlags& flags, Real scale
       }
     }
   }
+  if (flags.joints)
+    for (JointId j : rb.joints()) joint(out, rb, j, scale);
   if (flags.broadPhaseTree) {
     const std::vector<BroadPhaseNode> nodes = rb.broadPhaseNodes();
     int height = 1;

@@ -1,5 +1,5 @@
 // Debug drawing for the viewer: coloured line segments showing contact points and normals,
-// shape bounding boxes, velocities and centres of mass. Building the lines needs no GL (testable
+// joints, shape bounding boxes, velocities and centres of mass. Building the lines needs no GL (testable
 // headless); LineRenderer draws them with a minimal OpenGL 3.3 line program.
 #pragma once
 
@@ -18,6 +18,9 @@ struct DebugDrawFlags {
   bool aabbs = false;          ///< Shape bounds: awake bodies cyan, sleeping ones dark blue.
   bool velocities = false;     ///< Linear velocity (green, 0.1 s of motion), angular (magenta).
   bool centersOfMass = false;  ///< Axes cross at each dynamic body's centre of mass.
+  /// Joints: each body's centre to its anchor (white), the anchors (crosses), the joint's axis
+  /// (cyan), a hinge's limits (orange); a broken or disabled joint's anchors in red.
+  bool joints = true;
   /// The broad phase's dynamic tree: fat leaf boxes (grey) and inner nodes, warmer the
   /// higher they sit.
   bool broadPhaseTree = false;

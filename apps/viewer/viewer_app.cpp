@@ -430,6 +430,7 @@ class App {
     }
 
     if (ImGui::CollapsingHeader("Debug draw", ImGuiTreeNodeFlags_DefaultOpen)) {
+      ImGui::Checkbox("joints", &flags_.joints);
       ImGui::Checkbox("contacts", &flags_.contacts);
       ImGui::SameLine();
       ImGui::Checkbox("speculative", &flags_.speculative);

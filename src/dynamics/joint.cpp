@@ -437,6 +437,18 @@ Vec3 RigidBodySystem::jointAnchorB(JointId id) const {
   const JointRecord& j = d_->joint(id);
   return worldFrame(*d_, j.bodyB, j.frameB).p;
 }
+Transform RigidBodySystem::jointFrameA(JointId id) const {
+  const JointRecord& j = d_->joint(id);
+  return worldFrame(*d_, j.bodyA, j.frameA);
+}
+Transform RigidBodySystem::jointFrameB(JointId id) const {
+  const JointRecord& j = d_->joint(id);
+  return worldFrame(*d_, j.bodyB, j.frameB);
+}
+const JointAxis& RigidBodySystem::jointAxis(JointId id, int axis) const {
+  require(axis >= 0 && axis < 6, "jointAxis: axis must be 0..5 (x, y, z, rx, ry, rz)");
+  return d_->joint(id).axes[std::size_t(axis)];
+}
 int RigidBodySystem::jointCount() const { return d_->liveJoints; }
 
 std::vector<JointId> RigidBodySystem::joints() const {

@@ -139,9 +139,10 @@ TEST(DebugDraw, MeshBvhDrawsItsLevelsPosedWithTheShape) {
       triangles.push_back({a, a + 1, a + 6});
       triangles.push_back({a, a + 6, a + 5});
     }
-  const BodyId body = world.createBody({.type = BodyType::Static, .position = {0, 2, 0},
-                                        .orientation = Quat(Eigen::AngleAxis<Real>(
-                                            Real(std::numbers::pi / 2), Vec3::UnitY()))});
+  const BodyId body = world.createBody(
+      {.type = BodyType::Static,
+       .position = {0, 2, 0},
+       .orientation = Quat(Eigen::AngleAxis<Real>(Real(std::numbers::pi / 2), Vec3::UnitY()))});
   world.addShape(body, TriangleMesh(vertices, triangles));
   DebugLines root;
   buildDebugLines(world, {.meshBvh = true, .bvhDepth = 0}, 1, root);
@@ -187,6 +188,36 @@ TEST(DebugDraw, LineRendererDrawsColouredLines) {
     }
   EXPECT_GT(redInMiddleRow, kW - 4);
   EXPECT_EQ(redElsewhere, 0);
+}
+
+// A hinged pendulum: B's bone to its anchor at the pivot, the pivot's cross, the hinge axis
+// through it, and the two limit spokes perpendicular to the axis; broken, only red crosses.
+TEST(DebugDraw, JointsBonesAxisAndLimits) {
+  World world;
+  const BodyId bob = world.createBody({.position = {0, -1, 0}});
+  world.addShape(bob, Sphere{Real(0.1)});
+  const JointId j = world.createJoint(HingeJointSettings{
+      .bodyB = bob, .anchorB = {0, 1, 0}, .limits = JointLimits{Real(-0.5), Real(0.5)}});
+  DebugLines lines;
+  buildDebugLines(world, {.joints = true}, 1, lines);
+  ASSERT_EQ(lines.lineCount(), 7u);
+  // The bone: from the bob's centre to the pivot.
+  EXPECT_TRUE(Eigen::Vector3f(lines.vertices[0], lines.vertices[1], lines.vertices[2])
+                  .isApprox(Eigen::Vector3f(0, -1, 0), 1e-5f));
+  int spokes = 0;
+  for (std::size_t i = 0; i < lines.lineCount(); ++i) {
+    const float* v = &lines.vertices[12 * i];
+    if (v[3] != 1.0f) continue;  // the limit colour's red channel
+    const Eigen::Vector3f d(v[6] - v[0], v[7] - v[1], v[8] - v[2]);
+    EXPECT_NEAR(d.z(), 0, 1e-6);  // perpendicular to the hinge axis z
+    EXPECT_NEAR(d.norm(), 0.3, 1e-5);
+    ++spokes;
+  }
+  EXPECT_EQ(spokes, 2);
+  world.rigidBodies().setJointEnabled(j, false);
+  lines.clear();
+  buildDebugLines(world, {.joints = true}, 1, lines);
+  EXPECT_EQ(lines.lineCount(), 6u);
 }
 
 }  // namespace

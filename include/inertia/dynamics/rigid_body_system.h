@@ -241,6 +241,13 @@ class RigidBodySystem {
   /// The anchors in world coordinates (m).
   Vec3 jointAnchorA(JointId id) const;
   Vec3 jointAnchorB(JointId id) const;
+  /// The joint's frames in world coordinates now: at the anchors, x along the joint's axis
+  /// (a six-DOF joint's frames as given).
+  Transform jointFrameA(JointId id) const;
+  Transform jointFrameB(JointId id) const;
+  /// Degree of freedom `axis` (0..5: x, y, z, rx, ry, rz) as set: a hinge's angle is rx, a
+  /// slider's position x.
+  const JointAxis& jointAxis(JointId id, int axis) const;
   int jointCount() const;
   /// The live joints in creation-slot order.
   std::vector<JointId> joints() const;
