@@ -196,6 +196,16 @@ AssemblyIds addAssembly(World& world, const Assembly& assembly) {
   return ids;
 }
 
+void append(Assembly& to, const Assembly& from) {
+  const int offset = int(to.bodies.size());
+  to.bodies.insert(to.bodies.end(), from.bodies.begin(), from.bodies.end());
+  for (AssemblyJoint j : from.joints) {
+    if (j.bodyA >= 0) j.bodyA += offset;
+    j.bodyB += offset;
+    to.joints.push_back(std::move(j));
+  }
+}
+
 Assembly pendulum(const PendulumSettings& s) {
   requirePositive(s.length, "PendulumSettings::length");
   requirePositive(s.bobRadius, "PendulumSettings::bobRadius");

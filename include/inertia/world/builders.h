@@ -95,8 +95,9 @@ struct RainSettings {
 std::vector<BodyDesc> rain(const RainSettings& settings);
 
 /// The settings of any joint type.
-using AnyJointSettings = std::variant<BallJointSettings, HingeJointSettings, SliderJointSettings,
-                                      WeldJointSettings, DistanceJointSettings>;
+using AnyJointSettings =
+    std::variant<BallJointSettings, HingeJointSettings, SliderJointSettings, UniversalJointSettings,
+                 WeldJointSettings, DistanceJointSettings, SixDofJointSettings>;
 
 /// A joint of an Assembly: its settings, with the bodies given as indices into
 /// Assembly::bodies (the settings' own bodyA and bodyB are ignored; addAssembly() fills them).
@@ -123,6 +124,10 @@ struct AssemblyIds {
 /// Adds the bodies, then the joints (InvalidArgument as createBody, addShape and createJoint,
 /// and for a body index out of range).
 AssemblyIds addAssembly(World& world, const Assembly& assembly);
+
+/// Appends `from`'s bodies and joints to `to` (its joints' body indices shifted to match), so
+/// that many chains or ragdolls make one scene.
+void append(Assembly& to, const Assembly& from);
 
 /// A pendulum: a sphere whose centre hangs `length` below a pivot fixed to the world (gravity
 /// along -y), on a hinge about `axis` or a ball joint, released `angle` from straight down.
