@@ -1,5 +1,6 @@
 #include "joints_section.h"
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -9,7 +10,7 @@ namespace inertia::io::detail {
 
 namespace {
 
-constexpr std::string_view kTypes = "ball, hinge, slider, weld, distance";
+constexpr std::string_view kTypes = "ball, hinge, slider, universal, weld, distance, six_dof";
 
 std::string show(Real x) {
   char text[32];
@@ -24,11 +25,6 @@ void requireKeys(const Node& n, std::initializer_list<std::string_view> own) {
                                     "break_force", "break_torque", "collide_connected"};
   all.insert(all.end(), own.begin(), own.end());
   n.requireObject(all);
-}
-
-// Parts of DESIGN.md's joint format that the dynamics layer does not have yet.
-[[noreturn]] void notSupported(const Node& n, const std::string& what) {
-  n.fail(what + " is not supported yet in this version of Inertia");
 }
 
 // A body by its "name" in "bodies": its index.
@@ -66,21 +62,23 @@ Vec3 readAxis(const Node& n) {
   return axis;
 }
 
-// [lower, upper] of an angle (rad, within [-pi, pi]) or a position (m).
-JointLimits readLimits(const Node& n, bool angle) {
+// [lower, upper] of an angle (rad, within [-bound, bound]) or a position (m).
+JointLimits readLimits(const Node& n, bool angle, Real bound = Real(std::numbers::pi)) {
   if (n.requireArray() != 2)
     n.fail("expected [lower, upper], got " + std::to_string(n.json().size()) + " elements");
-  Real bound[2];
+  const Real limit = bound;
+  Real bounds[2];
   for (std::size_t k = 0; k < 2; ++k) {
     Node e = n.at(k);
-    bound[k] = Real(e.number());
-    if (angle && std::fabs(bound[k]) > Real(std::numbers::pi))
-      e.fail("a hinge's limits must lie in [-pi, pi] (rad), got " + e.json().dump());
+    bounds[k] = Real(e.number());
+    if (angle && std::fabs(bounds[k]) > limit)
+      e.fail("angle limits must lie in [-" + show(limit) + ", " + show(limit) + "] (rad), got " +
+             e.json().dump());
   }
-  if (bound[0] > bound[1])
+  if (bounds[0] > bounds[1])
     n.fail("the lower limit " + n.json()[0].dump() + " is above the upper limit " +
            n.json()[1].dump());
-  return {bound[0], bound[1]};
+  return {bounds[0], bounds[1]};
 }
 
 // `maxKey` is "max_torque" (a hinge) or "max_force" (a slider).
@@ -161,6 +159,74 @@ void readAxisDrives(const Node& n, S& s, bool angle) {
   if (n.has("friction")) s.friction = readNonNegative(n.at("friction"), angle ? "N m" : "N");
 }
 
+// B's axis left out: A's axis as it lies at the start, so the joint starts aligned.
+Vec3 axisB(const Node& n, const std::vector<BodyDesc>& bodies, const JointDesc& d,
+           const Vec3& axisA) {
+  return n.has("axis_b") ? readAxis(n.at("axis_b"))
+                         : Vec3(rotationOf(bodies, d.bodyB).conjugate() *
+                                (rotationOf(bodies, d.bodyA) * axisA));
+}
+
+// A six-DOF joint's frame: {"position": [x, y, z], "orientation": [w, x, y, z]}.
+Transform readFrame(const Node& n) {
+  n.requireObject({"position", "orientation"});
+  Transform t;
+  if (n.has("position")) t.p = n.at("position").vec3();
+  if (n.has("orientation")) t.q = n.at("orientation").quaternion();
+  return t;
+}
+
+// One of a six-DOF joint's axes: "free", "locked", [lower, upper], or an object with
+// "limits" and "motor", "spring", "friction".
+JointAxis readSixDofAxis(const Node& n, bool angle, Real bound) {
+  JointAxis a;
+  if (n.json().is_string()) {
+    const std::string mode = n.string();
+    if (mode != "free" && mode != "locked")
+      n.fail("expected \"free\", \"locked\", [lower, upper] or an object, got \"" + mode + "\"");
+    a.locked = mode == "locked";
+    return a;
+  }
+  a.locked = false;
+  if (n.json().is_array()) {
+    a.limits = readLimits(n, angle, bound);
+    return a;
+  }
+  n.requireObject({"limits", "motor", "spring", "friction"});
+  if (n.has("limits")) a.limits = readLimits(n.at("limits"), angle, bound);
+  if (n.has("motor"))
+    a.motor = angle ? readMotor(n.at("motor"), "max_torque", "N m")
+                    : readMotor(n.at("motor"), "max_force", "N");
+  if (n.has("spring")) a.spring = readSpring(n.at("spring"), /*hasRest=*/true);
+  if (n.has("friction")) a.friction = readNonNegative(n.at("friction"), angle ? "N m" : "N");
+  return a;
+}
+
+SixDofJointSettings readSixDof(const Node& n, std::size_t index,
+                               const std::vector<BodyDesc>& bodies, JointDesc& d) {
+  n.requireObject({"name", "type", "body_a", "body_b", "frame_a", "frame_b", "axes", "break_force",
+                   "break_torque", "collide_connected"});
+  // The anchors and thresholds as every type reads them, through a ball joint's settings.
+  BallJointSettings common;
+  readCommon(n, index, bodies, common, d);
+  SixDofJointSettings s{.name = common.name};
+  s.breakForce = common.breakForce;
+  s.breakTorque = common.breakTorque;
+  s.collideConnected = common.collideConnected;
+  if (n.has("frame_a")) s.frameA = readFrame(n.at("frame_a"));
+  if (n.has("frame_b")) s.frameB = readFrame(n.at("frame_b"));
+  if (n.has("axes")) {
+    const Node axes = n.at("axes");
+    static constexpr std::array<const char*, 6> kNames{"x", "y", "z", "rx", "ry", "rz"};
+    axes.requireObject({"x", "y", "z", "rx", "ry", "rz"});
+    for (std::size_t i = 0; i < 6; ++i)
+      if (axes.has(kNames[i]))
+        s.axes[i] = readSixDofAxis(axes.at(kNames[i]), i >= 3,
+                                   Real(i == 4 ? std::numbers::pi / 2 : std::numbers::pi));
+  }
+  return s;
+}
+
 DistanceJointSettings readDistance(const Node& n, const std::vector<BodyDesc>& bodies, JointDesc& d,
                                    DistanceJointSettings s) {
   if (n.has("length")) s.length = readNonNegative(n.at("length"), "m");
@@ -199,12 +265,17 @@ JointDesc readJoint(const Node& n, std::size_t index, const std::vector<BodyDesc
   Node typeNode = n.at("type");
   const std::string type = typeNode.string();
   if (type == "ball") {
-    if (n.has("cone_limit")) notSupported(n.at("cone_limit"), "a ball joint's \"cone_limit\"");
-    if (n.has("twist_limits"))
-      notSupported(n.at("twist_limits"), "a ball joint's \"twist_limits\"");
-    requireKeys(n, {"friction"});
+    requireKeys(n, {"axis_a", "axis_b", "cone_limit", "twist_limits", "friction"});
     BallJointSettings s;
     readCommon(n, index, bodies, s, d);
+    if (n.has("axis_a")) s.axisA = readAxis(n.at("axis_a"));
+    s.axisB = axisB(n, bodies, d, s.axisA);
+    if (n.has("cone_limit")) {
+      const Node cone = n.at("cone_limit");
+      s.coneLimit = Real(cone.number(0, std::numbers::pi, /*openLo=*/true));
+      if (*s.coneLimit >= Real(std::numbers::pi)) cone.fail("must be below pi (rad)");
+    }
+    if (n.has("twist_limits")) s.twistLimits = readLimits(n.at("twist_limits"), true);
     if (n.has("friction")) s.friction = readNonNegative(n.at("friction"), "N m");
     d.settings = std::move(s);
   } else if (type == "hinge") {
@@ -213,9 +284,7 @@ JointDesc readJoint(const Node& n, std::size_t index, const std::vector<BodyDesc
     readCommon(n, index, bodies, s, d);
     if (n.has("axis_a")) s.axisA = readAxis(n.at("axis_a"));
     // Left out, B's axis is A's as it lies at the start, so the hinge starts aligned.
-    s.axisB = n.has("axis_b") ? readAxis(n.at("axis_b"))
-                              : Vec3(rotationOf(bodies, d.bodyB).conjugate() *
-                                     (rotationOf(bodies, d.bodyA) * s.axisA));
+    s.axisB = axisB(n, bodies, d, s.axisA);
     readAxisDrives(n, s, /*angle=*/true);
     d.settings = std::move(s);
   } else if (type == "slider") {
@@ -236,8 +305,18 @@ JointDesc readJoint(const Node& n, std::size_t index, const std::vector<BodyDesc
     DistanceJointSettings s;
     readCommon(n, index, bodies, s, d);
     d.settings = readDistance(n, bodies, d, std::move(s));
-  } else if (type == "universal" || type == "six_dof") {
-    notSupported(typeNode, "the joint type \"" + type + "\"; supported: " + std::string(kTypes));
+  } else if (type == "universal") {
+    requireKeys(n, {"axis_a", "axis_b", "limits_a", "limits_b"});
+    UniversalJointSettings s;
+    readCommon(n, index, bodies, s, d);
+    if (n.has("axis_a")) s.axisA = readAxis(n.at("axis_a"));
+    if (n.has("axis_b")) s.axisB = readAxis(n.at("axis_b"));
+    if (n.has("limits_a")) s.limitsA = readLimits(n.at("limits_a"), true);
+    if (n.has("limits_b"))
+      s.limitsB = readLimits(n.at("limits_b"), true, Real(std::numbers::pi / 2));
+    d.settings = std::move(s);
+  } else if (type == "six_dof") {
+    d.settings = readSixDof(n, index, bodies, d);
   } else {
     typeNode.fail("unknown joint type \"" + type + "\"; expected one of " + std::string(kTypes));
   }

@@ -215,7 +215,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{R"([{"type": "slider", "body_b": "b", "limits": [2, 1]}])", "/joints/0/limits",
                 "above the upper limit"},
         BadCase{R"([{"type": "hinge", "body_b": "b", "limits": [-1, 4]}])", "/joints/0/limits/1",
-                "[-pi, pi]"},
+                "must lie in [-3.14159, 3.14159] (rad)"},
         BadCase{R"([{"type": "hinge", "body_b": "b", "limits": [1]}])", "/joints/0/limits",
                 "expected [lower, upper]"},
         BadCase{R"([{"type": "hinge", "body_b": "b", "limits": "wide"}])", "/joints/0/limits",
@@ -228,7 +228,7 @@ INSTANTIATE_TEST_SUITE_P(
                 ">= 0"},
         BadCase{R"([{"type": "ball", "body_b": "b", "collide_connected": "yes"}])",
                 "/joints/0/collide_connected", "true or false"},
-        BadCase{R"([{"type": "ball", "body_b": "b", "axis_a": [1, 0, 0]}])", "/joints/0/axis_a",
+        BadCase{R"([{"type": "ball", "body_b": "b", "limits": [0, 1]}])", "/joints/0/limits",
                 "unknown key"},
         BadCase{R"([{"type": "hinge", "body_b": "b", "breakforce": 5}])", "/joints/0/breakforce",
                 "did you mean \"break_force\""},
@@ -260,13 +260,79 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{
             R"([{"type": "distance", "body_a": "a", "body_b": "b", "length": 1, "min_length": 1.5}])",
             "/joints/0/min_length", "exceeds length (1 m)"},
-        // What the dynamics layer does not have yet is refused by name.
-        BadCase{R"([{"type": "universal", "body_b": "b"}])", "/joints/0/type", "not supported yet"},
-        BadCase{R"([{"type": "six_dof", "body_b": "b"}])", "/joints/0/type", "not supported yet"},
-        BadCase{R"([{"type": "ball", "body_b": "b", "cone_limit": 0.5}])", "/joints/0/cone_limit",
-                "not supported yet"},
-        BadCase{R"([{"type": "ball", "body_b": "b", "twist_limits": [-1, 1]}])",
-                "/joints/0/twist_limits", "not supported yet"}));
+        BadCase{R"([{"type": "ball", "body_b": "b", "cone_limit": 4}])", "/joints/0/cone_limit",
+                "out of range"},
+        BadCase{R"([{"type": "ball", "body_b": "b", "twist_limits": [1, -1]}])",
+                "/joints/0/twist_limits", "above the upper limit"},
+        BadCase{R"([{"type": "universal", "body_b": "b", "axis_a": [0, 0, 0]}])",
+                "/joints/0/axis_a", "must not be zero"},
+        BadCase{R"([{"type": "universal", "body_b": "b", "limits_b": [-2, 1]}])",
+                "/joints/0/limits_b/0", "must lie in [-1.5708, 1.5708]"},
+        BadCase{R"([{"type": "six_dof", "body_b": "b", "axes": {"q": "free"}}])",
+                "/joints/0/axes/q", "unknown key"},
+        BadCase{R"([{"type": "six_dof", "body_b": "b", "axes": {"rx": "loose"}}])",
+                "/joints/0/axes/rx", "expected \"free\", \"locked\""},
+        BadCase{R"([{"type": "six_dof", "body_b": "b", "axes": {"x": {"limits": [1, 0]}}}])",
+                "/joints/0/axes/x/limits", "above the upper limit"},
+        BadCase{R"([{"type": "six_dof", "body_b": "b", "anchor_a": [0, 0, 0]}])",
+                "/joints/0/anchor_a", "unknown key"},
+        BadCase{R"([{"type": "six_dof", "body_b": "b", "frame_a": {"orientation": [2, 0, 0, 0]}}])",
+                "/joints/0/frame_a/orientation", ""}));
+
+// Universal and six-DOF joints and a ball joint's cone and twist, read and built.
+TEST(Scene, ReadsUniversalSixDofAndBallLimits) {
+  io::Scene s = parseScene(R"({
+    "bodies": [ {"name": "a", "position": [0, 0, 0]}, {"name": "b", "position": [1, 0, 0]} ],
+    "joints": [
+      { "type": "ball", "body_a": "a", "body_b": "b", "axis_a": [1, 0, 0], "cone_limit": 0.7,
+        "twist_limits": [-0.2, 0.3] },
+      { "type": "universal", "body_a": "a", "body_b": "b", "axis_a": [1, 0, 0], "axis_b": [0, 1, 0],
+        "limits_a": [-1, 1], "limits_b": [-0.5, 0.5] },
+      { "type": "six_dof", "body_a": "a", "body_b": "b",
+        "frame_a": { "position": [0.5, 0, 0], "orientation": [1, 0, 0, 0] },
+        "frame_b": { "position": [-0.5, 0, 0] },
+        "axes": { "x": [-0.1, 0.2], "rx": "free",
+                  "rz": { "limits": [-1, 1], "motor": { "speed": 2, "max_torque": 3 },
+                          "spring": { "frequency": 4, "rest": 0.5 }, "friction": 0.1 } } }
+    ] })",
+                           "joints.json");
+  ASSERT_EQ(s.joints.size(), 3u);
+  const auto& ball = std::get<BallJointSettings>(s.joints[0].settings);
+  EXPECT_EQ(ball.coneLimit.value_or(0), Real(0.7));
+  ASSERT_TRUE(ball.twistLimits.has_value());
+  EXPECT_EQ(ball.twistLimits->lower, Real(-0.2));
+  EXPECT_EQ(ball.twistLimits->upper, Real(0.3));
+  const auto& u = std::get<UniversalJointSettings>(s.joints[1].settings);
+  EXPECT_EQ(u.axisB, Vec3(0, 1, 0));
+  ASSERT_TRUE(u.limitsB.has_value());
+  EXPECT_EQ(u.limitsB->upper, Real(0.5));
+  const auto& six = std::get<SixDofJointSettings>(s.joints[2].settings);
+  EXPECT_EQ(six.frameA.p, Vec3(Real(0.5), 0, 0));
+  EXPECT_EQ(six.frameB.p, Vec3(Real(-0.5), 0, 0));
+  EXPECT_FALSE(six.axes[0].locked);
+  ASSERT_TRUE(six.axes[0].limits.has_value());
+  EXPECT_EQ(six.axes[0].limits->upper, Real(0.2));
+  EXPECT_TRUE(six.axes[1].locked);
+  EXPECT_FALSE(six.axes[3].locked);
+  EXPECT_FALSE(six.axes[3].limits.has_value());
+  const JointAxis& rz = six.axes[5];
+  EXPECT_FALSE(rz.locked);
+  ASSERT_TRUE(rz.motor.has_value() && rz.spring.has_value());
+  EXPECT_EQ(rz.motor->maxForce, Real(3));
+  EXPECT_EQ(rz.spring->rest, Real(0.5));
+  EXPECT_EQ(rz.friction, Real(0.1));
+
+  auto world = io::instantiate(s);
+  const RigidBodySystem& rb = world->rigidBodies();
+  const std::vector<JointId> joints = rb.joints();
+  ASSERT_EQ(joints.size(), 3u);
+  EXPECT_EQ(rb.jointType(joints[1]), JointType::Universal);
+  EXPECT_EQ(rb.jointType(joints[2]), JointType::SixDof);
+  EXPECT_EQ(rb.jointAxis(joints[2], 5).friction, Real(0.1));
+  // The six-DOF frames meet where the file puts them: at x = 0.5 between the bodies.
+  EXPECT_TRUE(rb.jointFrameA(joints[2]).p.isApprox(Vec3(Real(0.5), 0, 0)));
+  EXPECT_TRUE(rb.jointFrameB(joints[2]).p.isApprox(Vec3(Real(0.5), 0, 0)));
+}
 
 TEST(Scene, JointBodiesMustBeUniquelyNamed) {
   SceneError e = errorOf(R"({"bodies": [{"name": "twin"}, {"name": "twin"}, {"name": "c"}],

@@ -50,8 +50,9 @@ struct ParticleSystemDesc {
 /// A joint as described in a scene: its settings, with the bodies given as indices into
 /// Scene::bodies (the settings' bodyA and bodyB are filled in by instantiate()).
 struct JointDesc {
-  std::variant<BallJointSettings, HingeJointSettings, SliderJointSettings, WeldJointSettings,
-               DistanceJointSettings>
+  std::variant<BallJointSettings, HingeJointSettings, SliderJointSettings,
+               UniversalJointSettings, WeldJointSettings, DistanceJointSettings,
+               SixDofJointSettings>
       settings;
   std::optional<std::size_t> bodyA;  ///< Index into Scene::bodies; none: the world.
   std::size_t bodyB = 0;             ///< Index into Scene::bodies.
