@@ -1,5 +1,6 @@
 #include "bodies_section.h"
 
+#include <array>
 #include <string>
 
 #include "inertia/core/error.h"
@@ -151,6 +152,57 @@ void readGenerator(const Node& n, const std::string& type, const MaterialTable& 
   for (BodyDesc& d : made) out.push_back(std::move(d));
 }
 
+// "ragdoll": the builder's ragdolls on a lattice in world axes, `spacing` apart, the first's
+// pelvis at `position`; each NAME_i (NAME alone for one) when there are several, so that the
+// "joints" section can name their parts.
+void readRagdolls(const Node& n, const MaterialTable& table, Scene& scene) {
+  n.requireObject({"type", "name", "position", "orientation", "count", "spacing", "scale",
+                   "velocity", "joint_friction", "material"});
+  constexpr long long kMaxRagdolls = 10000;
+  RagdollSettings s;
+  s.material = readMaterialRef(n, table, Material{});
+  if (n.has("position")) s.position = n.at("position").vec3();
+  if (n.has("orientation")) s.orientation = n.at("orientation").quaternion();
+  if (n.has("scale")) s.scale = Real(n.at("scale").number(0, 1e3, /*openLo=*/true));
+  if (n.has("velocity")) s.linearVelocity = n.at("velocity").vec3();
+  if (n.has("joint_friction")) s.jointFriction = Real(n.at("joint_friction").number(0, 1e6));
+  const std::string name = n.has("name") ? n.at("name").string() : std::string("ragdoll");
+  std::array<int, 3> counts{1, 1, 1};
+  if (n.has("count")) {
+    Node c = n.at("count");
+    if (c.json().is_array()) {
+      if (c.requireArray() != 3) c.fail("expected a count or [nx, ny, nz]");
+      for (std::size_t k = 0; k < 3; ++k) counts[k] = int(c.at(k).integer(1, kMaxRagdolls));
+    } else {
+      counts[0] = int(c.integer(1, kMaxRagdolls));
+    }
+    if (static_cast<long long>(counts[0]) * counts[1] * counts[2] > kMaxRagdolls)
+      c.fail("at most " + std::to_string(kMaxRagdolls) + " ragdolls");
+  }
+  // Default: 0.24 m between the hands of neighbours, 0.27 m from soles to head, at any scale.
+  Vec3 spacing = s.scale * Vec3(Real(0.8), Real(2), Real(0.6));
+  if (n.has("spacing")) {
+    Node sp = n.at("spacing");
+    spacing = sp.json().is_number() ? Vec3::Constant(Real(sp.number(0, 1e6, /*openLo=*/true)))
+                                    : sp.vec3();
+  }
+  const bool several = counts[0] * counts[1] * counts[2] > 1;
+  const Vec3 origin = s.position;
+  Assembly all;
+  try {
+    for (int z = 0, i = 0; z < counts[2]; ++z)
+      for (int y = 0; y < counts[1]; ++y)
+        for (int x = 0; x < counts[0]; ++x, ++i) {
+          s.position = origin + spacing.cwiseProduct(Vec3(Real(x), Real(y), Real(z)));
+          s.name = several ? name + "_" + std::to_string(i) : name;
+          append(all, ragdoll(s));
+        }
+  } catch (const InvalidArgument& e) {
+    n.fail(e.what());
+  }
+  io::append(scene, all, n.pointer().to_string());
+}
+
 }  // namespace
 
 MaterialTable readMaterials(const Node& n) {
@@ -163,11 +215,14 @@ MaterialTable readMaterials(const Node& n) {
   return table;
 }
 
-void readBodies(const Node& n, std::size_t index, const MaterialTable& table,
-                std::vector<BodyDesc>& out) {
+void readBodies(const Node& n, std::size_t index, const MaterialTable& table, Scene& scene) {
   const std::string type = n.has("type") ? n.at("type").string() : std::string("dynamic");
   if (type == "pyramid" || type == "tower" || type == "wall" || type == "grid" || type == "rain") {
-    readGenerator(n, type, table, out);
+    readGenerator(n, type, table, scene.bodies);
+    return;
+  }
+  if (type == "ragdoll") {
+    readRagdolls(n, table, scene);
     return;
   }
   n.requireObject({"name", "type", "position", "orientation", "velocity", "angular_velocity",
@@ -178,7 +233,7 @@ void readBodies(const Node& n, std::size_t index, const MaterialTable& table,
   if (!bodyTypeFromName(type, s.type))
     n.at("type").fail("unknown body type \"" + type +
                       "\"; expected static, kinematic, dynamic, or a generator: pyramid, tower, "
-                      "wall, grid, rain");
+                      "wall, grid, rain, ragdoll");
   s.name = n.has("name") ? n.at("name").string() : std::to_string(index);
   if (n.has("position")) s.position = n.at("position").vec3();
   if (n.has("orientation")) s.orientation = n.at("orientation").quaternion();
@@ -205,7 +260,7 @@ void readBodies(const Node& n, std::size_t index, const MaterialTable& table,
     for (std::size_t i = 0; i < list.requireArray(); ++i)
       d.shapes.push_back(readBodyShape(list.at(i), s.type, table, bodyMaterial));
   }
-  out.push_back(std::move(d));
+  scene.bodies.push_back(std::move(d));
 }
 
 }  // namespace inertia::io::detail

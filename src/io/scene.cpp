@@ -123,7 +123,7 @@ Scene parseScene(const std::string& text, const std::filesystem::path& name) {
   if (n.has("bodies")) {
     Node list = n.at("bodies");
     for (std::size_t i = 0; i < list.requireArray(); ++i)
-      detail::readBodies(list.at(i), i, materials, scene.bodies);
+      detail::readBodies(list.at(i), i, materials, scene);
   }
   if (n.has("joints")) {
     Node list = n.at("joints");
@@ -137,6 +137,23 @@ Scene parseScene(const std::string& text, const std::filesystem::path& name) {
   }
   requireEmpty(n, "deformables", false, "deformables");
   return scene;
+}
+
+void append(Scene& scene, const Assembly& assembly, const std::string& pointer) {
+  const std::size_t n = assembly.bodies.size(), offset = scene.bodies.size();
+  for (std::size_t i = 0; i < assembly.joints.size(); ++i) {
+    const AssemblyJoint& j = assembly.joints[i];
+    require(j.bodyA >= -1 && j.bodyA < int(n) && j.bodyB >= 0 && std::size_t(j.bodyB) < n,
+            "Assembly::joints[" + std::to_string(i) + "]: body index out of range");
+  }
+  scene.bodies.insert(scene.bodies.end(), assembly.bodies.begin(), assembly.bodies.end());
+  for (const AssemblyJoint& j : assembly.joints) {
+    JointDesc& d = scene.joints.emplace_back();
+    d.settings = j.settings;
+    if (j.bodyA >= 0) d.bodyA = offset + std::size_t(j.bodyA);
+    d.bodyB = offset + std::size_t(j.bodyB);
+    d.pointer = pointer;
+  }
 }
 
 Scene loadScene(const std::filesystem::path& file) {

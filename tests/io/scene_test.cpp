@@ -161,6 +161,33 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{R"({"bodies": [{"name": "cart"}], "particle_systems": [{"emitters": [{"type": "point", "attach_to": 0}]}]})",
                 "/particle_systems/0/emitters/0/attach_to", "string"}));
 
+// The ragdoll generator's keys.
+INSTANTIATE_TEST_SUITE_P(
+    Ragdolls, BadScene,
+    testing::Values(BadCase{R"({"bodies": [{"type": "ragdoll", "count": 0}]})", "/bodies/0/count",
+                            "out of range"},
+                    BadCase{R"({"bodies": [{"type": "ragdoll", "count": [2, 0, 1]}]})",
+                            "/bodies/0/count/1", "out of range"},
+                    BadCase{R"({"bodies": [{"type": "ragdoll", "count": [2, 2]}]})",
+                            "/bodies/0/count", "[nx, ny, nz]"},
+                    BadCase{R"({"bodies": [{"type": "ragdoll", "count": [100, 10, 11]}]})",
+                            "/bodies/0/count", "at most 10000 ragdolls"},
+                    BadCase{R"({"bodies": [{"type": "ragdoll", "scale": 0}]})", "/bodies/0/scale",
+                            "out of range"},
+                    BadCase{R"({"bodies": [{"type": "ragdoll", "spacing": [1, 2]}]})",
+                            "/bodies/0/spacing", "3 numbers"},
+                    BadCase{R"({"bodies": [{"type": "ragdoll", "joint_friction": -1}]})",
+                            "/bodies/0/joint_friction", "out of range"},
+                    BadCase{R"({"bodies": [{"type": "ragdoll", "orientation": [1, 1, 0, 0]}]})",
+                            "/bodies/0/orientation", "unit length"},
+                    BadCase{R"({"bodies": [{"type": "ragdoll", "material": "bone"}]})",
+                            "/bodies/0/material", "unknown material"},
+                    BadCase{R"({"bodies": [{"type": "ragdoll", "arms": 3}]})", "/bodies/0/arms",
+                            "unknown key"},
+                    BadCase{R"({"bodies": [{"type": "ragdoll", "count": 2}],
+                    "joints": [{"type": "ball", "body_b": "ragdoll_head"}]})",
+                            "/joints/0/body_b", "no body is named \"ragdoll_head\""}));
+
 namespace {
 
 // Joints' errors: two bodies, "a" and "b", and the joints given.
@@ -549,6 +576,78 @@ TEST(Scene, ReadsBodiesMaterialsAndGenerators) {
   EXPECT_FLOAT_EQ(s.bodies[11].settings.position.z(), Real(1.5));
   auto world = io::instantiate(s);
   EXPECT_EQ(world->bodyCount(), 12);
+}
+
+// The ragdoll generator: the builder's ragdolls, bodies and joints, on a lattice; the joints
+// come before the "joints" section's and can name the parts.
+TEST(Scene, RagdollGeneratorMakesBodiesAndJoints) {
+  io::Scene s = parseScene(R"({
+    "materials": {"light": {"density": 500}},
+    "bodies": [
+      {"name": "ground", "type": "static", "shapes": [{"type": "plane", "normal": [0, 1, 0], "offset": 0}]},
+      {"type": "ragdoll", "count": [2, 1, 3], "position": [0, 1, 0], "spacing": [1, 2, 0.7],
+       "scale": 1.0, "velocity": [0, 0, 1], "joint_friction": 0.5, "material": "light"},
+      {"name": "hook", "type": "static", "position": [0, 3, 0]},
+      {"type": "ragdoll", "name": "bob", "position": [5, 2, 0], "scale": 0.5}
+    ],
+    "joints": [{"type": "ball", "body_a": "hook", "body_b": "ragdoll_5_head",
+                "anchor_a": [1, -1.32, 1.4]}] })",
+                           "ragdolls.json");
+  constexpr std::size_t kParts = kRagdollParts, kJoints = 10;  // RagdollSettings' doc
+  ASSERT_EQ(s.bodies.size(), 1 + 6 * kParts + 1 + kParts);
+  ASSERT_EQ(s.joints.size(), 6 * kJoints + kJoints + 1);
+  // Numbered along x, then y, then z; the lattice in world axes from `position`.
+  EXPECT_EQ(s.bodies[1].settings.name, "ragdoll_0_pelvis");
+  EXPECT_TRUE(s.bodies[1].settings.position.isApprox(Vec3(0, 1, 0)));
+  EXPECT_EQ(s.bodies[1 + kParts].settings.name, "ragdoll_1_pelvis");
+  EXPECT_TRUE(s.bodies[1 + kParts].settings.position.isApprox(Vec3(1, 1, 0)));
+  EXPECT_EQ(s.bodies[1 + 5 * kParts].settings.name, "ragdoll_5_pelvis");
+  EXPECT_TRUE(s.bodies[1 + 5 * kParts].settings.position.isApprox(Vec3(1, 1, Real(1.4))));
+  EXPECT_TRUE(s.bodies[1].settings.linearVelocity.isApprox(Vec3(0, 0, 1)));
+  EXPECT_FLOAT_EQ(s.bodies[1].shapes[0].material.density, 500);
+  const std::size_t bob = 1 + 6 * kParts + 1;
+  EXPECT_EQ(s.bodies[bob].settings.name, "bob_pelvis");  // one ragdoll: no number
+  EXPECT_TRUE(s.bodies[bob].settings.position.isApprox(Vec3(5, 2, 0)));
+  // Each ragdoll's joints join its own parts and carry the generator's pointer; the joints
+  // section's come last.
+  for (std::size_t j = 0; j < 7 * kJoints; ++j) {
+    const std::size_t doll = j / kJoints;
+    const std::size_t first = doll < 6 ? 1 + doll * kParts : bob;
+    SCOPED_TRACE(j);
+    EXPECT_EQ(s.joints[j].pointer, doll < 6 ? "/bodies/1" : "/bodies/3");
+    ASSERT_TRUE(s.joints[j].bodyA.has_value());
+    EXPECT_GE(*s.joints[j].bodyA, first);
+    EXPECT_LT(*s.joints[j].bodyA, first + kParts);
+    EXPECT_GE(s.joints[j].bodyB, first);
+    EXPECT_LT(s.joints[j].bodyB, first + kParts);
+  }
+  EXPECT_EQ(std::get<HingeJointSettings>(s.joints[0].settings).name, "ragdoll_0_waist");
+  EXPECT_EQ(std::get<HingeJointSettings>(s.joints[0].settings).friction, Real(0.5));
+  EXPECT_EQ(s.joints.back().pointer, "/joints/0");
+  EXPECT_EQ(s.bodies[s.joints.back().bodyB].settings.name, "ragdoll_5_head");
+
+  auto world = io::instantiate(s);
+  EXPECT_EQ(world->bodyCount(), int(s.bodies.size()));
+  const RigidBodySystem& rb = world->rigidBodies();
+  ASSERT_EQ(rb.jointCount(), int(s.joints.size()));
+  for (JointId j : rb.joints()) {
+    EXPECT_LT(rb.jointError(j).position, Real(1e-5)) << rb.jointName(j);
+    EXPECT_LT(rb.jointError(j).angle, Real(1e-5)) << rb.jointName(j);
+  }
+}
+
+// A joint a generator made that createJoint refuses is reported at the generator.
+TEST(Scene, GeneratorJointErrorsNameTheGenerator) {
+  io::Scene s = parseScene(R"({"bodies": [{"name": "a"}, {"type": "ragdoll"}]})", "made.json");
+  ASSERT_EQ(s.joints.size(), 10u);
+  std::get<HingeJointSettings>(s.joints.at(0).settings).axisA = Vec3::Zero();
+  try {
+    io::instantiate(s);
+    FAIL() << "no error";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.pointer(), "/bodies/1") << e.what();
+    EXPECT_NE(e.reason().find("axisA"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Scene, SyntaxErrorsGiveLineAndColumn) {

@@ -50,13 +50,12 @@ struct ParticleSystemDesc {
 /// A joint as described in a scene: its settings, with the bodies given as indices into
 /// Scene::bodies (the settings' bodyA and bodyB are filled in by instantiate()).
 struct JointDesc {
-  std::variant<BallJointSettings, HingeJointSettings, SliderJointSettings,
-               UniversalJointSettings, WeldJointSettings, DistanceJointSettings,
-               SixDofJointSettings>
-      settings;
+  AnyJointSettings settings;
   std::optional<std::size_t> bodyA;  ///< Index into Scene::bodies; none: the world.
   std::size_t bodyB = 0;             ///< Index into Scene::bodies.
-  std::string pointer;               ///< Its JSON pointer ("/joints/2"), for errors.
+  /// Its JSON pointer, for errors: "/joints/2", or the generator's ("/bodies/3") for a joint
+  /// that a generator made.
+  std::string pointer;
 };
 
 /// A scene as read from a file: plain data, checked, not yet simulated.
@@ -65,9 +64,17 @@ struct Scene {
   WorldSettings world;
   std::optional<Camera> camera;
   std::vector<BodyDesc> bodies;  ///< Generators already expanded, in file order.
-  std::vector<JointDesc> joints;  ///< In file order (the order instantiate() creates them).
+  /// The generators' joints (a ragdoll's), in the order of "bodies", then the "joints" section
+  /// in file order: the order instantiate() creates them.
+  std::vector<JointDesc> joints;
   std::vector<ParticleSystemDesc> particleSystems;
 };
+
+/// Appends an assembly's bodies and joints (inertia/world/builders.h) to `scene`, its joints'
+/// body indices shifted to the scene's; `pointer` is the joints' JSON pointer for errors (the
+/// generator's in a file). How generators and the viewer's samples put jointed builders into
+/// scenes.
+void append(Scene& scene, const Assembly& assembly, const std::string& pointer = {});
 
 /// Reads and checks a scene file. Throws SceneError on a missing file, bad JSON, an unknown
 /// key, a value of the wrong type or out of range.
