@@ -21,7 +21,8 @@ inline constexpr std::uint32_t kWorldBody = std::numeric_limits<std::uint32_t>::
 struct JointParts {
   /// Every locked row of the joint, solved together: a ball joint's anchors (3 rows), a
   /// hinge's anchors and aligned axes (5), a slider's rotation and off-axis offsets (5), a
-  /// weld's all (6), a six-DOF joint's locked degrees of freedom.
+  /// weld's all (6), a six-DOF joint's locked degrees of freedom. Solved in the step's
+  /// JointConstraint; the record keeps its impulses from step to step.
   RowBlock lock;
   RowBlock spin;  ///< A ball joint's rotation friction (3 angular rows).
   AxisRows cone;  ///< A ball joint's swing limit.
@@ -72,7 +73,11 @@ struct JointConstraint {
   Quat frameA = Quat::Identity();   ///< World rotation of the joint's frame on A.
   Quat frameB = Quat::Identity();
   Vec3 fallbackAxis = Vec3::UnitY();  ///< A distance joint's direction when its length is 0.
-  JointParts* parts = nullptr;        ///< The record's: solved in place, kept for warm starts.
+  JointParts* parts = nullptr;        ///< The record's other parts: solved in place.
+  RowBlock lock;   ///< The locked rows (JointParts::lock's impulses at the start).
+  int stamp = -1;  ///< The position update its rows and coordinates were prepared for.
+  std::array<Real, 6> coordinate{};  ///< The free coordinates then (x, y, z, rx, ry, rz).
+  Real swing = 0;                    ///< A ball joint's swing then (rad).
 };
 
 }  // namespace inertia::detail

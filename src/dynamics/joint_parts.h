@@ -18,24 +18,22 @@
 
 namespace inertia::detail {
 
-/// One row's Jacobian: direction l (m/m), lever arms from the centres of mass (m), and a pure
-/// angular axis g.
+/// One row's Jacobian J = [-l, -jA, l, jB] on (vA, wA, vB, wB): a linear row has direction l and
+/// jA = rA x l, jB = rB x l for lever arms rA, rB from the centres of mass; an angular row has
+/// l = 0 and jA = jB = its axis.
 struct JointRow {
   Vec3 linear = Vec3::Zero();
-  Vec3 armA = Vec3::Zero();
-  Vec3 armB = Vec3::Zero();
-  Vec3 angular = Vec3::Zero();
+  Vec3 ja = Vec3::Zero();
+  Vec3 jb = Vec3::Zero();
 
-  Vec3 angularA() const { return armA.cross(linear) + angular; }
-  Vec3 angularB() const { return armB.cross(linear) + angular; }
+  /// The torque per unit impulse beyond the linear part's moment (the axis of an angular row).
+  Vec3 angular() const { return linear.isZero() ? ja : Vec3::Zero(); }
 };
 
 inline JointRow linearRow(const Vec3& direction, const Vec3& armA, const Vec3& armB) {
-  return {direction, armA, armB, Vec3::Zero()};
+  return {direction, armA.cross(direction), armB.cross(direction)};
 }
-inline JointRow angularRow(const Vec3& axis) {
-  return {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), axis};
-}
+inline JointRow angularRow(const Vec3& axis) { return {Vec3::Zero(), axis, axis}; }
 
 /// Up to six coupled rows and their accumulated impulses (N s, or N m s for angular rows),
 /// kept from substep to substep and step to step for warm starting. A joint's locked rows
@@ -54,31 +52,37 @@ struct RowBlock {
   void clear() { count = 0; }
   void add(const JointRow& row) { rows[std::size_t(count++)] = row; }
 
+  // Set by prepare() after each position update: K^-1 (count x count, packed) and the
+  // position errors, which the passes until the next position update share.
+  std::array<Real, kMax * kMax> inverseMass{};
+  Eigen::Matrix<Real, kMax, 1> error = Eigen::Matrix<Real, kMax, 1>::Zero();
+
+  /// K^-1 (K = J M^-1 J^T) and C for the rows as they are now.
+  void prepare(const SolverBody& a, const SolverBody& b, const Vector& C) {
+    error.head(count) = C;
+    switch (count) {
+      case 1:
+        return invert<1>(a, b);
+      case 2:
+        return invert<2>(a, b);
+      case 3:
+        return invert<3>(a, b);
+      case 4:
+        return invert<4>(a, b);
+      case 5:
+        return invert<5>(a, b);
+      case 6:
+        return invert<6>(a, b);
+      default:
+        return;
+    }
+  }
   /// The relative velocity along the rows, J v.
   Vector velocity(const SolverBody& a, const SolverBody& b) const {
     Vector c(count);
-    for (int i = 0; i < count; ++i) {
-      const JointRow& r = rows[std::size_t(i)];
-      c(i) = r.linear.dot(b.v - a.v) + r.angularB().dot(b.w) - r.angularA().dot(a.w);
-    }
-    return c;
-  }
-  /// K = J M^-1 J^T.
-  Matrix mass(const SolverBody& a, const SolverBody& b) const {
-    std::array<Vec3, kMax> ja, jb, ia, ib;
-    for (std::size_t i = 0; i < std::size_t(count); ++i) {
-      ja[i] = rows[i].angularA();
-      jb[i] = rows[i].angularB();
-      ia[i] = a.invInertia * ja[i];
-      ib[i] = b.invInertia * jb[i];
-    }
-    Matrix k(count, count);
     for (std::size_t i = 0; i < std::size_t(count); ++i)
-      for (std::size_t j = 0; j <= i; ++j)
-        k(int(i), int(j)) = k(int(j), int(i)) =
-            (a.invMass + b.invMass) * rows[i].linear.dot(rows[j].linear) + ja[i].dot(ia[j]) +
-            jb[i].dot(ib[j]);
-    return k;
+      c(int(i)) = rows[i].linear.dot(b.v - a.v) + rows[i].jb.dot(b.w) - rows[i].ja.dot(a.w);
+    return c;
   }
   /// Applies impulses `lambda` along the rows to both bodies.
   template <class V>
@@ -86,8 +90,8 @@ struct RowBlock {
     Vec3 p = Vec3::Zero(), la = Vec3::Zero(), lb = Vec3::Zero();
     for (std::size_t i = 0; i < std::size_t(count); ++i) {
       p += rows[i].linear * lambda(int(i));
-      la += rows[i].angularA() * lambda(int(i));
-      lb += rows[i].angularB() * lambda(int(i));
+      la += rows[i].ja * lambda(int(i));
+      lb += rows[i].jb * lambda(int(i));
     }
     a.v -= a.invMass * p;
     a.w -= a.invInertia * la;
@@ -96,21 +100,31 @@ struct RowBlock {
   }
   void warmStart(SolverBody& a, SolverBody& b) const { apply(a, b, impulse.head(count)); }
 
-  /// One equality solve towards C = 0 (C the rows' position errors, m or rad) with `soft`'s
-  /// coefficients.
-  void solve(SolverBody& a, SolverBody& b, const Vector& C, const Softness& soft) {
-    if (count == 0) return;
-    Vector delta = -soft.massScale * mass(a, b).ldlt().solve(velocity(a, b) + soft.biasRate * C);
-    delta -= soft.impulseScale * impulse.head(count);
-    impulse.head(count) += delta;
-    apply(a, b, delta);
+  /// One equality solve towards C = 0 with `soft`'s coefficients.
+  void solve(SolverBody& a, SolverBody& b, const Softness& soft) {
+    switch (count) {
+      case 1:
+        return solveFixed<1>(a, b, soft);
+      case 2:
+        return solveFixed<2>(a, b, soft);
+      case 3:
+        return solveFixed<3>(a, b, soft);
+      case 4:
+        return solveFixed<4>(a, b, soft);
+      case 5:
+        return solveFixed<5>(a, b, soft);
+      case 6:
+        return solveFixed<6>(a, b, soft);
+      default:
+        return;
+    }
   }
 
   /// A velocity block driven to zero with its accumulated impulse inside a ball of radius
   /// `maxImpulse` (a ball joint's friction torque).
   void solveFriction(SolverBody& a, SolverBody& b, Real maxImpulse) {
     const Vector old = impulse.head(count);
-    Vector next = old - mass(a, b).ldlt().solve(velocity(a, b));
+    Vector next = old - inverse() * velocity(a, b);
     const Real norm = next.norm();
     if (norm > maxImpulse) next *= maxImpulse / norm;
     impulse.head(count) = next;
@@ -122,8 +136,58 @@ struct RowBlock {
   void reaction(Vec3& linear, Vec3& angular) const {
     for (std::size_t i = 0; i < std::size_t(count); ++i) {
       linear += rows[i].linear * impulse(int(i));
-      angular += rows[i].angular * impulse(int(i));
+      angular += rows[i].angular() * impulse(int(i));
     }
+  }
+
+ private:
+  // solve() for N rows, in fixed-size (unrolled) arithmetic.
+  template <int N>
+  void solveFixed(SolverBody& a, SolverBody& b, const Softness& soft) {
+    Eigen::Matrix<Real, N, 1> rhs;
+    const Vec3 dv = b.v - a.v;
+    for (int i = 0; i < N; ++i) {
+      const JointRow& r = rows[std::size_t(i)];
+      rhs(i) = r.linear.dot(dv) + r.jb.dot(b.w) - r.ja.dot(a.w) + soft.biasRate * error(i);
+    }
+    const Eigen::Map<const Eigen::Matrix<Real, N, N>> kinv(inverseMass.data());
+    const Eigen::Matrix<Real, N, 1> delta =
+        -soft.massScale * (kinv * rhs) - soft.impulseScale * impulse.template head<N>();
+    impulse.template head<N>() += delta;
+    Vec3 p = Vec3::Zero(), la = Vec3::Zero(), lb = Vec3::Zero();
+    for (int i = 0; i < N; ++i) {
+      const JointRow& r = rows[std::size_t(i)];
+      p += r.linear * delta(i);
+      la += r.ja * delta(i);
+      lb += r.jb * delta(i);
+    }
+    a.v -= a.invMass * p;
+    a.w -= a.invInertia * la;
+    b.v += b.invMass * p;
+    b.w += b.invInertia * lb;
+  }
+
+  Eigen::Map<const Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic, 0, kMax, kMax>> inverse()
+      const {
+    return {inverseMass.data(), count, count};
+  }
+  // K^-1 for N rows by a fixed-size LDLT (K is positive semi-definite; LDLT's pivoting keeps a
+  // singular K, two rows on one freedom, from blowing up).
+  template <int N>
+  void invert(const SolverBody& a, const SolverBody& b) {
+    std::array<Vec3, N> ia, ib;
+    for (std::size_t i = 0; i < std::size_t(N); ++i) {
+      ia[i] = a.invInertia * rows[i].ja;
+      ib[i] = b.invInertia * rows[i].jb;
+    }
+    const Real m = a.invMass + b.invMass;
+    Eigen::Matrix<Real, N, N> k;
+    for (std::size_t i = 0; i < std::size_t(N); ++i)
+      for (std::size_t j = 0; j <= i; ++j)
+        k(int(i), int(j)) = k(int(j), int(i)) =
+            m * rows[i].linear.dot(rows[j].linear) + rows[i].ja.dot(ia[j]) + rows[i].jb.dot(ib[j]);
+    Eigen::Map<Eigen::Matrix<Real, N, N>>(inverseMass.data()) =
+        k.ldlt().solve(Eigen::Matrix<Real, N, N>::Identity());
   }
 };
 
@@ -133,43 +197,45 @@ struct AxisRows {
   JointRow row;
   /// Accumulated impulses; `lock` holds a coordinate fixed (a distance joint's rigid rod).
   Real spring = 0, motor = 0, friction = 0, lower = 0, upper = 0, lock = 0;
+  // Set by prepare() after each position update: the effective mass.
+  Real effectiveMass = 0;
 
+  /// The effective mass of the row as it is now (the bodies' positions and the row do not
+  /// change between position updates, so the passes share it).
+  void prepare(const SolverBody& a, const SolverBody& b) {
+    const Real k = (a.invMass + b.invMass) * row.linear.squaredNorm() +
+                   row.ja.dot(a.invInertia * row.ja) + row.jb.dot(b.invInertia * row.jb);
+    effectiveMass = k > 0 ? 1 / k : 0;
+  }
   Real total() const { return spring + motor + friction + lower - upper + lock; }
   Real velocity(const SolverBody& a, const SolverBody& b) const {
-    return row.linear.dot(b.v - a.v) + row.angularB().dot(b.w) - row.angularA().dot(a.w);
-  }
-  Real mass(const SolverBody& a, const SolverBody& b) const {
-    const Vec3 ja = row.angularA(), jb = row.angularB();
-    const Real k = (a.invMass + b.invMass) * row.linear.squaredNorm() + ja.dot(a.invInertia * ja) +
-                   jb.dot(b.invInertia * jb);
-    return k > 0 ? 1 / k : 0;
+    return row.linear.dot(b.v - a.v) + row.jb.dot(b.w) - row.ja.dot(a.w);
   }
   void apply(SolverBody& a, SolverBody& b, Real lambda) const {
     a.v -= a.invMass * lambda * row.linear;
-    a.w -= a.invInertia * (lambda * row.angularA());
+    a.w -= a.invInertia * (lambda * row.ja);
     b.v += b.invMass * lambda * row.linear;
-    b.w += b.invInertia * (lambda * row.angularB());
+    b.w += b.invInertia * (lambda * row.jb);
   }
   void warmStart(SolverBody& a, SolverBody& b) const { apply(a, b, total()); }
   void reaction(Vec3& linear, Vec3& angular) const {
     linear += row.linear * total();
-    angular += row.angular * total();
+    angular += row.angular() * total();
   }
 
   /// A bounded velocity row: drives J v to `speed` with |impulse| <= maxImpulse.
   void solveMotor(SolverBody& a, SolverBody& b, Real& accumulated, Real speed, Real maxImpulse) {
-    const Real m = mass(a, b);
     const Real old = accumulated;
-    accumulated = std::clamp(old - m * (velocity(a, b) - speed), -maxImpulse, maxImpulse);
+    accumulated =
+        std::clamp(old - effectiveMass * (velocity(a, b) - speed), -maxImpulse, maxImpulse);
     apply(a, b, accumulated - old);
   }
   /// A soft row towards C = 0 (a spring or a servo), |impulse| <= maxImpulse.
   void solveSoft(SolverBody& a, SolverBody& b, Real& accumulated, Real C, const Softness& soft,
                  Real maxImpulse) {
-    const Real m = mass(a, b);
     const Real old = accumulated;
-    const Real lambda =
-        -soft.massScale * m * (velocity(a, b) + soft.biasRate * C) - soft.impulseScale * old;
+    const Real lambda = -soft.massScale * effectiveMass * (velocity(a, b) + soft.biasRate * C) -
+                        soft.impulseScale * old;
     accumulated = std::clamp(old + lambda, -maxImpulse, maxImpulse);
     apply(a, b, accumulated - old);
   }
@@ -186,9 +252,9 @@ struct AxisRows {
       massScale = soft.massScale;
       impulseScale = soft.impulseScale;
     }
-    const Real m = mass(a, b);
     const Real old = accumulated;
-    const Real lambda = -massScale * m * (sign * velocity(a, b) + bias) - impulseScale * old;
+    const Real lambda =
+        -massScale * effectiveMass * (sign * velocity(a, b) + bias) - impulseScale * old;
     accumulated = std::max(old + lambda, Real(0));
     apply(a, b, sign * (accumulated - old));
   }

@@ -1,5 +1,6 @@
 #include "joint_solver.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -97,10 +98,9 @@ SwingTwist swingTwist(const Quat& qA, const Quat& qB) {
   return st;
 }
 
-// The joint's locked rows in the current frame, into p.lock, and their position errors.
-void lockRows(const JointConstraint& c, const JointRecord& j, const Frame& f, JointParts& p,
-              RowBlock::Vector& C) {
-  RowBlock& lock = p.lock;
+// The joint's locked rows in the current frame, into c.lock, and their position errors.
+void lockRows(JointConstraint& c, const JointRecord& j, const Frame& f, RowBlock::Vector& C) {
+  RowBlock& lock = c.lock;
   lock.clear();
   C.resize(RowBlock::kMax);
   const auto row = [&](const JointRow& r, Real error) {
@@ -174,40 +174,74 @@ void lockRows(const JointConstraint& c, const JointRecord& j, const Frame& f, Jo
   C.conservativeResize(lock.count);
 }
 
-// The rows of the free coordinates in the current frame.
-void freeRows(const JointConstraint& c, const JointRecord& j, const Frame& f, JointParts& p) {
+// The rows of the free coordinates in the current frame, prepared, and the coordinates: per
+// degree of freedom (x, y, z, rx, ry, rz) the value its rows drive, a ball joint's swing apart.
+void freeRows(JointConstraint& c, const JointRecord& j, const Frame& f, JointParts& p,
+              const SolverBody& a, const SolverBody& b) {
   const Vec3 armA = f.rA + f.d;
+  const auto use = [&](std::size_t k, const JointRow& row, Real coordinate) {
+    p.axes[k].row = row;
+    p.axes[k].prepare(a, b);
+    c.coordinate[k] = coordinate;
+  };
   switch (j.type) {
     case JointType::Ball:
-      for (int i = 0; i < 3; ++i) p.spin.rows[std::size_t(i)] = angularRow(Vec3::Unit(i));
-      p.spin.count = 3;
-      p.cone.row = angularRow(swingTwist(f.qA, f.qB).swingAxis);
-      p.axes[3].row = angularRow(axisOf(f.qB, 0));
+      // Only the rows the joint uses: most ball joints have none of them.
+      if (j.friction > 0) {
+        for (int i = 0; i < 3; ++i) p.spin.rows[std::size_t(i)] = angularRow(Vec3::Unit(i));
+        p.spin.count = 3;
+        p.spin.prepare(a, b, RowBlock::Vector::Zero(3));
+      }
+      if (j.coneLimit || j.axes[3].limits) {
+        const SwingTwist st = swingTwist(f.qA, f.qB);
+        p.cone.row = angularRow(st.swingAxis);
+        p.cone.prepare(a, b);
+        c.swing = st.swing;
+        use(3, angularRow(axisOf(f.qB, 0)), st.twist);
+      }
       break;
     case JointType::Hinge:
-      p.axes[3].row = angularRow(axisOf(f.qA, 0));
+      use(3, angularRow(axisOf(f.qA, 0)), twistAngle(f.qA, f.qB));
       break;
     case JointType::Slider:
-      p.axes[0].row = linearRow(axisOf(f.qA, 0), armA, f.rB);
+      use(0, linearRow(axisOf(f.qA, 0), armA, f.rB), axisOf(f.qA, 0).dot(f.d) - j.reference);
       break;
     case JointType::Universal:
     case JointType::SixDof: {
-      for (int i = 0; i < 3; ++i)
-        p.axes[std::size_t(i)].row = linearRow(axisOf(f.qA, i), armA, f.rB);
+      for (std::size_t i = 0; i < 3; ++i)
+        if (!j.axes[i].locked) {
+          const Vec3 e = axisOf(f.qA, int(i));
+          use(i, linearRow(e, armA, f.rB), e.dot(f.d));
+        }
+      if (j.axes[3].locked && j.axes[4].locked && j.axes[5].locked) break;
       const EulerFrame e = eulerFrame(f.qA, f.qB);
-      for (int i = 0; i < 3; ++i)
-        p.axes[std::size_t(3 + i)].row = angularRow(e.rateAxes[std::size_t(i)]);
+      for (std::size_t i = 0; i < 3; ++i)
+        if (!j.axes[3 + i].locked) use(3 + i, angularRow(e.rateAxes[i]), e.angles(int(i)));
       break;
     }
     case JointType::Weld:
       break;
     case JointType::Distance: {
       const Real length = f.d.norm();
-      p.axes[0].row =
-          linearRow(length > Real(1e-6) ? Vec3(f.d / length) : c.fallbackAxis, f.rA, f.rB);
+      use(0, linearRow(length > Real(1e-6) ? Vec3(f.d / length) : c.fallbackAxis, f.rA, f.rB),
+          length);
       break;
     }
   }
+}
+
+// After a position update: the joint's frame, rows, coordinates and effective masses, which the
+// passes until the next position update share.
+void refresh(JointConstraint& c, const JointRecord& j, const SolverBody& a, const SolverBody& b,
+             int stamp) {
+  if (c.stamp == stamp) return;
+  c.stamp = stamp;
+  const Frame f = currentFrame(c, a, b);
+  JointParts& p = *c.parts;
+  freeRows(c, j, f, p, a, b);
+  RowBlock::Vector C;
+  lockRows(c, j, f, C);
+  c.lock.prepare(a, b, C);
 }
 
 // A free coordinate's spring, motor, friction and limits, in Box2D v3's order.
@@ -232,79 +266,51 @@ void driveAxis(AxisRows& ax, const JointAxis& axis, SolverBody& a, SolverBody& b
   }
 }
 
-void solveBall(JointParts& p, const JointRecord& j, SolverBody& a, SolverBody& b, const Frame& f,
-               const JointPass& pass) {
-  if (j.friction > 0) p.spin.solveFriction(a, b, j.friction * pass.h);
-  if (j.coneLimit || j.axes[3].limits) {
-    const SwingTwist st = swingTwist(f.qA, f.qB);
-    if (j.coneLimit)
-      p.cone.solveLimit(a, b, p.cone.upper, *j.coneLimit - st.swing, -1, pass.rigid, pass.invH);
-    if (j.axes[3].limits) driveAxis(p.axes[3], j.axes[3], a, b, st.twist, pass);
-  }
-}
-
-// Every free degree of freedom on its own row (a universal joint is one: rx and ry free).
-void solveSixDof(JointParts& p, const JointRecord& j, SolverBody& a, SolverBody& b, const Frame& f,
-                 const JointPass& pass) {
-  const auto& ax = j.axes;
-  if (!(ax[3].locked && ax[4].locked && ax[5].locked)) {
-    const EulerFrame e = eulerFrame(f.qA, f.qB);
-    for (int i = 0; i < 3; ++i)
-      if (!ax[std::size_t(3 + i)].locked)
-        driveAxis(p.axes[std::size_t(3 + i)], ax[std::size_t(3 + i)], a, b, e.angles(i), pass);
-  }
-  for (int i = 0; i < 3; ++i)
-    if (!ax[std::size_t(i)].locked)
-      driveAxis(p.axes[std::size_t(i)], ax[std::size_t(i)], a, b, axisOf(f.qA, i).dot(f.d), pass);
-}
-
-void solveDistance(JointParts& p, const JointRecord& j, SolverBody& a, SolverBody& b,
-                   const Frame& f, const JointPass& pass) {
-  AxisRows& ax = p.axes[0];
-  const Real length = f.d.norm();
-  const bool spring = j.spring && !pass.relax;
-  const Softness soft =
-      j.spring ? makeSoft(j.spring->frequency, j.spring->dampingRatio, pass.h) : pass.rigid;
-  if (spring) ax.solveSoft(a, b, ax.spring, length - j.length, soft, kInfinity);
-  if (j.minLength < j.maxLength) {
-    ax.solveLimit(a, b, ax.lower, length - j.minLength, 1, pass.rigid, pass.invH);
-    ax.solveLimit(a, b, ax.upper, j.maxLength - length, -1, pass.rigid, pass.invH);
-  }
-}
-
 // The free coordinates' rows (springs, motors, friction, limits), then the locked rows as one
 // block: of all the rows, their error shows most (Box2D v3's order).
-void solveRows(const JointConstraint& c, const JointRecord& j, JointParts& p, SolverBody& a,
-               SolverBody& b, const Frame& f, const JointPass& pass) {
-  freeRows(c, j, f, p);
+void solveRows(JointConstraint& c, const JointRecord& j, JointParts& p, SolverBody& a,
+               SolverBody& b, const JointPass& pass) {
   switch (j.type) {
     case JointType::Ball:
-      solveBall(p, j, a, b, f, pass);
+      if (j.friction > 0) p.spin.solveFriction(a, b, j.friction * pass.h);
+      if (j.coneLimit)
+        p.cone.solveLimit(a, b, p.cone.upper, *j.coneLimit - c.swing, -1, pass.rigid, pass.invH);
+      if (j.axes[3].limits) driveAxis(p.axes[3], j.axes[3], a, b, c.coordinate[3], pass);
       break;
     case JointType::Hinge:
-      driveAxis(p.axes[3], j.axes[3], a, b, twistAngle(f.qA, f.qB), pass);
+      driveAxis(p.axes[3], j.axes[3], a, b, c.coordinate[3], pass);
       break;
     case JointType::Slider:
-      driveAxis(p.axes[0], j.axes[0], a, b, axisOf(f.qA, 0).dot(f.d) - j.reference, pass);
+      driveAxis(p.axes[0], j.axes[0], a, b, c.coordinate[0], pass);
       break;
     case JointType::Universal:
     case JointType::SixDof:
-      solveSixDof(p, j, a, b, f, pass);
+      // Every free degree of freedom on its own row, the rotations first.
+      for (std::size_t i : {3, 4, 5, 0, 1, 2})
+        if (!j.axes[i].locked) driveAxis(p.axes[i], j.axes[i], a, b, c.coordinate[i], pass);
       break;
     case JointType::Weld:
-    case JointType::Distance:
       break;
+    case JointType::Distance: {
+      AxisRows& ax = p.axes[0];
+      const Real length = c.coordinate[0];
+      if (j.spring && !pass.relax)
+        ax.solveSoft(a, b, ax.spring, length - j.length,
+                     makeSoft(j.spring->frequency, j.spring->dampingRatio, pass.h), kInfinity);
+      if (j.minLength < j.maxLength) {
+        ax.solveLimit(a, b, ax.lower, length - j.minLength, 1, pass.rigid, pass.invH);
+        ax.solveLimit(a, b, ax.upper, j.maxLength - length, -1, pass.rigid, pass.invH);
+      }
+      break;
+    }
   }
-  if (j.type == JointType::Distance) solveDistance(p, j, a, b, f, pass);
-  RowBlock::Vector C;
-  lockRows(c, j, f, p, C);
   // A soft weld's rows are its spring (which sits out the relax pass, like every spring).
   if (j.type == JointType::Weld && j.spring) {
     if (!pass.relax)
-      p.lock.solve(a, b, C, makeSoft(j.spring->frequency, j.spring->dampingRatio, pass.h));
+      c.lock.solve(a, b, makeSoft(j.spring->frequency, j.spring->dampingRatio, pass.h));
     return;
   }
-  p.lock.solve(a, b, C, pass.rigid);
+  c.lock.solve(a, b, pass.rigid);
 }
 
 // Runs f(a, b) on copies of the joint's two solver bodies (a zero body for the world or a
@@ -312,15 +318,17 @@ void solveRows(const JointConstraint& c, const JointRecord& j, JointParts& p, So
 // body may be shared by joints solved at the same time.
 template <class F>
 void withBodies(const JointConstraint& c, std::vector<SolverBody>& bodies, F f) {
-  const SolverBody none{};
-  SolverBody a = c.bodyA >= 0 ? bodies[std::size_t(c.bodyA)] : none;
-  SolverBody b = c.bodyB >= 0 ? bodies[std::size_t(c.bodyB)] : none;
-  f(a, b);
-  for (const auto& [index, body] : {std::pair{c.bodyA, &a}, std::pair{c.bodyB, &b}}) {
-    if (index < 0 || body->invMass == 0) continue;
-    bodies[std::size_t(index)].v = body->v;
-    bodies[std::size_t(index)].w = body->w;
-  }
+  // A moving body in place (no other joint or contact of the colour touches it), anything
+  // else as a copy whose writes are dropped.
+  SolverBody copyA{}, copyB{};
+  const auto pick = [&](int index, SolverBody& copy) -> SolverBody& {
+    if (index < 0) return copy;
+    SolverBody& body = bodies[std::size_t(index)];
+    if (body.invMass > 0) return body;
+    copy = body;
+    return copy;
+  };
+  f(pick(c.bodyA, copyA), pick(c.bodyB, copyB));
 }
 
 }  // namespace
@@ -358,24 +366,26 @@ void prepareJoints(RigidBodyData& D, StepWorkers& workers) {
       const Vec3 d = c.deltaCenter + c.rB - c.rA;
       c.fallbackAxis = d.norm() > Real(1e-6) ? Vec3(d.normalized()) : axisOf(c.frameA, 0);
       c.parts = &D.joints[c.joint].parts;
+      // The locked rows' impulses for the warm start; the block itself lives in the
+      // constraint, in colour order, so the passes read it in sequence.
+      c.lock.impulse = j.parts.lock.impulse;
+      c.stamp = -1;
     }
   });
 }
 
-void warmStartJoint(const RigidBodyData& D, JointConstraint& c, std::vector<SolverBody>& bodies) {
+void warmStartJoint(const RigidBodyData& D, JointConstraint& c, std::vector<SolverBody>& bodies,
+                    int stamp) {
   const JointRecord& j = D.joints[c.joint];
   withBodies(c, bodies, [&](SolverBody& a, SolverBody& b) {
-    const Frame f = currentFrame(c, a, b);
+    refresh(c, j, a, b, stamp);
     JointParts& p = *c.parts;
-    freeRows(c, j, f, p);
-    RowBlock::Vector C;
-    lockRows(c, j, f, p, C);
-    p.lock.warmStart(a, b);
+    c.lock.warmStart(a, b);
     switch (j.type) {
       case JointType::Ball:
-        p.spin.warmStart(a, b);
-        p.cone.warmStart(a, b);
-        p.axes[3].warmStart(a, b);
+        if (j.friction > 0) p.spin.warmStart(a, b);
+        if (j.coneLimit) p.cone.warmStart(a, b);
+        if (j.axes[3].limits) p.axes[3].warmStart(a, b);
         break;
       case JointType::Hinge:
         p.axes[3].warmStart(a, b);
@@ -386,7 +396,8 @@ void warmStartJoint(const RigidBodyData& D, JointConstraint& c, std::vector<Solv
         break;
       case JointType::Universal:
       case JointType::SixDof:
-        for (const AxisRows& ax : p.axes) ax.warmStart(a, b);
+        for (std::size_t i = 0; i < 6; ++i)
+          if (!j.axes[i].locked) p.axes[i].warmStart(a, b);
         break;
       case JointType::Weld:
         break;
@@ -398,16 +409,20 @@ void solveJoint(const RigidBodyData& D, JointConstraint& c, std::vector<SolverBo
                 const JointPass& pass) {
   const JointRecord& j = D.joints[c.joint];
   withBodies(c, bodies, [&](SolverBody& a, SolverBody& b) {
-    solveRows(c, j, *c.parts, a, b, currentFrame(c, a, b), pass);
+    refresh(c, j, a, b, pass.stamp);
+    solveRows(c, j, *c.parts, a, b, pass);
   });
 }
 
 void storeJoints(RigidBodyData& D, Real h) {
+  const std::size_t eventsBefore = D.jointEvents.size();
   for (const JointConstraint& c : D.jointConstraints) {
     JointRecord& j = D.joints[c.joint];
     Vec3 linear = Vec3::Zero(), angular = Vec3::Zero();
     const JointParts& p = j.parts;
-    p.lock.reaction(linear, angular);
+    c.lock.reaction(linear, angular);
+    j.parts.lock.impulse = c.lock.impulse;
+    j.parts.lock.count = c.lock.count;
     p.spin.reaction(linear, angular);
     p.cone.reaction(linear, angular);
     for (const AxisRows& ax : p.axes) ax.reaction(linear, angular);
@@ -420,6 +435,9 @@ void storeJoints(RigidBodyData& D, Real h) {
       D.jointEvents.push_back({{c.joint, j.generation}, j.force, j.torque});
     }
   }
+  // The constraints run in colour order: the events in slot order.
+  std::sort(D.jointEvents.begin() + std::ptrdiff_t(eventsBefore), D.jointEvents.end(),
+            [](const JointEvent& x, const JointEvent& y) { return x.joint.index < y.joint.index; });
 }
 
 namespace {

@@ -23,6 +23,9 @@ struct JointPass {
   /// substep a different integrator (it restarts the implicit step from the new position),
   /// which measurably slows and damps the spring (joint_test.cpp).
   bool relax = false;
+  /// Which position update the pass follows (2 per substep: the solve passes, then the relax
+  /// passes): a joint's rows and effective masses are computed once for each.
+  int stamp = 0;
 };
 
 /// The pass coefficients of the soft step, pgs, and the relaxation.
@@ -51,8 +54,9 @@ void addJointConstraints(RigidBodyData& D, Slot slot) {
 
 /// Frames and anchors of the joint constraints at the step's start.
 void prepareJoints(RigidBodyData& D, StepWorkers& workers);
-/// Applies a joint's accumulated impulses to its bodies.
-void warmStartJoint(const RigidBodyData& D, JointConstraint& c, std::vector<SolverBody>& bodies);
+/// Applies a joint's accumulated impulses to its bodies (rows prepared for `stamp`).
+void warmStartJoint(const RigidBodyData& D, JointConstraint& c, std::vector<SolverBody>& bodies,
+                    int stamp);
 /// One pass over a joint's rows.
 void solveJoint(const RigidBodyData& D, JointConstraint& c, std::vector<SolverBody>& bodies,
                 const JointPass& pass);

@@ -257,7 +257,8 @@ struct RigidBodyData {
   std::vector<SubstepMotion> motion;
   UnionFind island;                     // per body slot: the islands for sleeping and waking
   std::vector<GraphEdge> contactEdges;  // per constraint: its solver bodies
-  std::vector<JointConstraint> jointConstraints;  // this step's joints
+  std::vector<JointConstraint> jointConstraints;  // this step's joints (in colour order)
+  std::vector<JointConstraint> sortedJoints;      // scratch of the sort by colour
   std::vector<GraphEdge> jointEdges;              // per joint constraint: its solver bodies
   ConstraintIslands lcpIslands;         // the LCP solvers' islands of this step
   LcpWorkspace lcp;
