@@ -59,6 +59,7 @@ struct JointRecord {
   JointParts parts;
   Vec3 force = Vec3::Zero();   ///< Last step's constraint force on B (N, world).
   Vec3 torque = Vec3::Zero();  ///< (N m)
+  bool overloaded = false;     ///< Past a threshold this step: breaks at its end.
 };
 
 /// A joint in this step's solver: the solver bodies, and its frames at the step's start, from

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 namespace inertia::detail {
 
@@ -414,30 +415,35 @@ void solveJoint(const RigidBodyData& D, JointConstraint& c, std::vector<SolverBo
   });
 }
 
-void storeJoints(RigidBodyData& D, Real h) {
-  const std::size_t eventsBefore = D.jointEvents.size();
-  for (const JointConstraint& c : D.jointConstraints) {
-    JointRecord& j = D.joints[c.joint];
-    Vec3 linear = Vec3::Zero(), angular = Vec3::Zero();
-    const JointParts& p = j.parts;
-    c.lock.reaction(linear, angular);
-    j.parts.lock.impulse = c.lock.impulse;
-    j.parts.lock.count = c.lock.count;
-    p.spin.reaction(linear, angular);
-    p.cone.reaction(linear, angular);
-    for (const AxisRows& ax : p.axes) ax.reaction(linear, angular);
-    j.force = linear / h;
-    j.torque = angular / h;
-    if (j.force.norm() > j.breakForce || j.torque.norm() > j.breakTorque) {
+void storeJoints(RigidBodyData& D, Real h, StepWorkers& workers) {
+  // Each joint's impulses and reaction on the workers (each writes its own record), then the
+  // breaks in slot order in sequence.
+  workers.parallelFor(D.jointConstraints.size(), [&](std::size_t first, std::size_t last) {
+    for (std::size_t k = first; k < last; ++k) {
+      const JointConstraint& c = D.jointConstraints[k];
+      JointRecord& j = D.joints[c.joint];
+      JointParts& p = j.parts;
+      Vec3 linear = Vec3::Zero(), angular = Vec3::Zero();
+      c.lock.reaction(linear, angular);
+      p.lock.impulse = c.lock.impulse;
+      p.lock.count = c.lock.count;
+      p.spin.reaction(linear, angular);
+      p.cone.reaction(linear, angular);
+      for (const AxisRows& ax : p.axes) ax.reaction(linear, angular);
+      j.force = linear / h;
+      j.torque = angular / h;
+      j.overloaded = j.force.norm() > j.breakForce || j.torque.norm() > j.breakTorque;
+    }
+  });
+  for (std::uint32_t ji = 0; ji < D.joints.size(); ++ji) {
+    JointRecord& j = D.joints[ji];
+    if (std::exchange(j.overloaded, false)) {
       j.broken = true;
       j.enabled = false;
       j.parts = {};
-      D.jointEvents.push_back({{c.joint, j.generation}, j.force, j.torque});
+      D.jointEvents.push_back({{ji, j.generation}, j.force, j.torque});
     }
   }
-  // The constraints run in colour order: the events in slot order.
-  std::sort(D.jointEvents.begin() + std::ptrdiff_t(eventsBefore), D.jointEvents.end(),
-            [](const JointEvent& x, const JointEvent& y) { return x.joint.index < y.joint.index; });
 }
 
 namespace {

@@ -62,7 +62,7 @@ void solveJoint(const RigidBodyData& D, JointConstraint& c, std::vector<SolverBo
                 const JointPass& pass);
 /// After the substeps: impulses into the records, forces (impulse over the substep), and the
 /// joints whose force or torque passed their threshold break (disabled, reported once).
-void storeJoints(RigidBodyData& D, Real h);
+void storeJoints(RigidBodyData& D, Real h, StepWorkers& workers);
 
 /// A joint's error from the bodies' poses (the joint records' columns).
 JointError jointError(const RigidBodyData& D, const JointRecord& j);

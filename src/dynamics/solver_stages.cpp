@@ -260,11 +260,14 @@ void storeImpulses(Data& D, StepWorkers& workers) {
 
 // The joint constraints in colour order, so that each colour's pass reads them in sequence
 // (in slot order each joint of a large grid cost a cache miss or two).
-void sortJointsByColor(Data& D) {
+void sortJointsByColor(Data& D, StepWorkers& workers) {
   ConstraintColoring& col = D.coloring;
   if (D.jointConstraints.empty()) return;
-  D.sortedJoints.clear();
-  for (std::uint32_t k : col.jointOrder) D.sortedJoints.push_back(D.jointConstraints[k]);
+  D.sortedJoints.resize(D.jointConstraints.size());
+  workers.parallelFor(col.jointOrder.size(), [&](std::size_t first, std::size_t last) {
+    for (std::size_t k = first; k < last; ++k)
+      D.sortedJoints[k] = D.jointConstraints[col.jointOrder[k]];
+  });
   D.jointConstraints.swap(D.sortedJoints);
   std::iota(col.jointOrder.begin(), col.jointOrder.end(), 0u);
 }
@@ -321,7 +324,7 @@ void prepareContacts(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
   } else {
     // The graph's colours; the bundles compute the masses themselves, a bundle at a time.
     colorGraph(D.jointEdges, D.contactEdges, D.solverBodies, D.coloring);
-    sortJointsByColor(D);
+    sortJointsByColor(D, workers);
     D.bundles.build(D.constraints, D.solverBodies, D.coloring, workers);
   }
   prepareMotion(D, s, h, workers);
@@ -375,7 +378,7 @@ double solveSubsteps(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
     D.bundles.store(D.constraints, workers);
   }
   storeImpulses(D, workers);
-  storeJoints(D, h);
+  storeJoints(D, h, workers);
   return integrationTime;
 }
 
