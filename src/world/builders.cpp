@@ -73,6 +73,17 @@ AssemblyJoint hingeAt(const Assembly& as, int a, int b, const Vec3& point, const
           a, b};
 }
 
+void requireBodies(const Assembly& as, int a, int b, const char* what) {
+  const int n = int(as.bodies.size());
+  require(a >= -1 && a < n && b >= 0 && b < n && a != b,
+          std::string(what) + ": bodyA must be -1..bodies - 1 and bodyB 0..bodies - 1, not bodyA");
+}
+
+void requireAxis(const Vec3& point, const Vec3& axis, const char* what) {
+  require(allFinite(point) && allFinite(axis) && axis.norm() > 0,
+          std::string(what) + ": point and axis must be finite and axis not zero");
+}
+
 // Rotates local +y onto `up` (unit).
 Quat yTo(const Vec3& up) { return Quat::FromTwoVectors(Vec3::UnitY(), up).normalized(); }
 
@@ -172,6 +183,35 @@ std::vector<BodyDesc> rain(const RainSettings& s) {
     out.push_back(std::move(d));
   }
   return out;
+}
+
+BallJointSettings ballJointAt(const Assembly& assembly, int bodyA, int bodyB, const Vec3& point,
+                              const Vec3& axis) {
+  requireBodies(assembly, bodyA, bodyB, "ballJointAt");
+  requireAxis(point, axis, "ballJointAt");
+  const Transform pa = poseOf(assembly, bodyA), pb = poseOf(assembly, bodyB);
+  return {.anchorA = pa.applyInverse(point),
+          .anchorB = pb.applyInverse(point),
+          .axisA = pa.q.conjugate() * axis.normalized(),
+          .axisB = pb.q.conjugate() * axis.normalized()};
+}
+
+HingeJointSettings hingeJointAt(const Assembly& assembly, int bodyA, int bodyB, const Vec3& point,
+                                const Vec3& axis) {
+  requireBodies(assembly, bodyA, bodyB, "hingeJointAt");
+  requireAxis(point, axis, "hingeJointAt");
+  return std::get<HingeJointSettings>(
+      hingeAt(assembly, bodyA, bodyB, point, axis.normalized()).settings);
+}
+
+SliderJointSettings sliderJointAt(const Assembly& assembly, int bodyA, int bodyB, const Vec3& point,
+                                  const Vec3& axis) {
+  requireBodies(assembly, bodyA, bodyB, "sliderJointAt");
+  requireAxis(point, axis, "sliderJointAt");
+  const Transform pa = poseOf(assembly, bodyA), pb = poseOf(assembly, bodyB);
+  return {.anchorA = pa.applyInverse(point),
+          .anchorB = pb.applyInverse(point),
+          .axisA = pa.q.conjugate() * axis.normalized()};
 }
 
 AssemblyIds addAssembly(World& world, const Assembly& assembly) {

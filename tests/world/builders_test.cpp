@@ -169,6 +169,57 @@ TEST(JointBuilders, BadSettingsThrow) {
   EXPECT_EQ(world.bodyCount(), 0);  // checked before anything was added
 }
 
+// Joints placed by hand at a world point start satisfied, their angle and position zero, with
+// the axis carried into each body's frame: B turns about it (or slides along it) and only that.
+TEST(JointBuilders, JointsPlacedAtAWorldPointStartSatisfied) {
+  Assembly a;
+  const Quat qa(Eigen::AngleAxis<Real>(Real(0.4), Vec3(1, 2, 0).normalized()));
+  const Quat qb(Eigen::AngleAxis<Real>(Real(-1.1), Vec3(0, 1, 3).normalized()));
+  auto addSphere = [&](const Vec3& p, const Quat& q) {
+    BodyDesc& d = a.bodies.emplace_back();
+    d.settings.position = p;
+    d.settings.orientation = q;
+    d.shapes.push_back({Sphere{Real(0.3)}, {}, {}});
+  };
+  addSphere(Vec3(1, 2, 3), qa);
+  addSphere(Vec3(2, 1, 3), qb);
+  const Vec3 point(Real(1.5), Real(1.5), 3), axis = Vec3(1, 1, 1).normalized();
+  a.joints.push_back({ballJointAt(a, 0, 1, point, axis), 0, 1});
+  a.joints.push_back({hingeJointAt(a, 0, 1, point, 3 * axis), 0, 1});
+  a.joints.push_back({sliderJointAt(a, -1, 1, point, -axis), -1, 1});
+  World world({.gravity = Vec3::Zero()});
+  const AssemblyIds ids = addAssembly(world, a);
+  const RigidBodySystem& rb = world.rigidBodies();
+  for (JointId j : ids.joints) {
+    EXPECT_LT(rb.jointError(j).position, Real(1e-5)) << int(rb.jointType(j));
+    EXPECT_LT(rb.jointError(j).angle, Real(1e-5)) << int(rb.jointType(j));
+    EXPECT_NEAR(rb.jointCoordinate(j), 0, Real(1e-5));
+    EXPECT_TRUE(rb.jointAnchorA(j).isApprox(point, Real(1e-5)));
+  }
+  // The axes in world coordinates: the frames' x.
+  EXPECT_TRUE((rb.jointFrameA(ids.joints[0]).q * Vec3::UnitX()).isApprox(axis, Real(1e-5)));
+  EXPECT_TRUE((rb.jointFrameB(ids.joints[0]).q * Vec3::UnitX()).isApprox(axis, Real(1e-5)));
+  EXPECT_TRUE((rb.jointFrameA(ids.joints[1]).q * Vec3::UnitX()).isApprox(axis, Real(1e-5)));
+  EXPECT_TRUE((rb.jointFrameA(ids.joints[2]).q * Vec3::UnitX()).isApprox(-axis, Real(1e-5)));
+  // Moving B along the slider's axis reads as its position.
+  World slid({.gravity = Vec3::Zero()});
+  Assembly justSlider = a;
+  justSlider.joints.erase(justSlider.joints.begin(), justSlider.joints.begin() + 2);
+  const AssemblyIds s = addAssembly(slid, justSlider);
+  slid.rigidBodies().setTransform(s.bodies[1], {Vec3(2, 1, 3) - Real(0.25) * axis, qb});
+  EXPECT_NEAR(slid.rigidBodies().jointCoordinate(s.joints[0]), Real(0.25), Real(1e-5));
+  EXPECT_LT(slid.rigidBodies().jointError(s.joints[0]).position, Real(1e-5));
+
+  EXPECT_THROW(ballJointAt(a, 0, 2, point), InvalidArgument);
+  EXPECT_THROW(ballJointAt(a, -2, 1, point), InvalidArgument);
+  EXPECT_THROW(hingeJointAt(a, 1, 1, point, axis), InvalidArgument);
+  EXPECT_THROW(hingeJointAt(a, 0, 1, point, Vec3::Zero()), InvalidArgument);
+  EXPECT_THROW(ballJointAt(a, 0, 1, point, Vec3::Zero()), InvalidArgument);
+  EXPECT_THROW(
+      sliderJointAt(a, -1, 0, Vec3::Constant(std::numeric_limits<Real>::quiet_NaN()), axis),
+      InvalidArgument);
+}
+
 // A hinge pendulum released at 0.5 rad swings through to -0.5 rad on the other side (energy
 // conservation: symplectic Euler and the soft joint lose well under 1% in half a swing), with
 // the bob staying on its circle.

@@ -129,6 +129,19 @@ AssemblyIds addAssembly(World& world, const Assembly& assembly);
 /// that many chains or ragdolls make one scene.
 void append(Assembly& to, const Assembly& from);
 
+/// Joints placed in an assembly's described poses, for building one by hand: at a world point
+/// (m), about or along a world axis (not zero; a ball joint's is its cone's and twist's),
+/// between bodies `bodyA` (-1: the world) and `bodyB` of `assembly` (indices; InvalidArgument
+/// when out of range). The anchors and axes come out in each body's frame, so the joint starts
+/// satisfied, its angle, twist or position zero; the caller adds limits, motors and the rest,
+/// then pushes {settings, bodyA, bodyB} to the joints.
+BallJointSettings ballJointAt(const Assembly& assembly, int bodyA, int bodyB, const Vec3& point,
+                              const Vec3& axis = Vec3::UnitX());
+HingeJointSettings hingeJointAt(const Assembly& assembly, int bodyA, int bodyB, const Vec3& point,
+                                const Vec3& axis);
+SliderJointSettings sliderJointAt(const Assembly& assembly, int bodyA, int bodyB, const Vec3& point,
+                                  const Vec3& axis);
+
 /// A pendulum: a sphere whose centre hangs `length` below a pivot fixed to the world (gravity
 /// along -y), on a hinge about `axis` or a ball joint, released `angle` from straight down.
 struct PendulumSettings {
