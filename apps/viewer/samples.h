@@ -23,7 +23,7 @@ struct Sample {
   std::filesystem::path file{};  ///< The scene file, empty for a built-in sample.
 };
 
-/// The built-in samples (Stacking, Collision, Contacts), made by the shared builders.
+/// The built-in samples (Stacking, Collision, Contacts, Joints), made by the shared builders.
 std::vector<Sample> builtinSamples();
 
 /// One sample per *.json file of `dir` (not recursive), sorted by file name, named by the file's
