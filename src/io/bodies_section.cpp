@@ -157,7 +157,7 @@ void readGenerator(const Node& n, const std::string& type, const MaterialTable& 
 // "joints" section can name their parts.
 void readRagdolls(const Node& n, const MaterialTable& table, Scene& scene) {
   n.requireObject({"type", "name", "position", "orientation", "count", "spacing", "scale",
-                   "velocity", "joint_friction", "material"});
+                   "velocity", "joint_friction", "material", "color"});
   constexpr long long kMaxRagdolls = 10000;
   RagdollSettings s;
   s.material = readMaterialRef(n, table, Material{});
@@ -200,6 +200,9 @@ void readRagdolls(const Node& n, const MaterialTable& table, Scene& scene) {
   } catch (const InvalidArgument& e) {
     n.fail(e.what());
   }
+  if (const std::optional<Vec3> color = readColor(n))
+    for (BodyDesc& b : all.bodies)
+      for (ShapeDesc& shape : b.shapes) shape.color = color;
   io::append(scene, all, n.pointer().to_string());
 }
 

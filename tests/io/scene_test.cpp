@@ -184,6 +184,8 @@ INSTANTIATE_TEST_SUITE_P(
                             "/bodies/0/material", "unknown material"},
                     BadCase{R"({"bodies": [{"type": "ragdoll", "arms": 3}]})", "/bodies/0/arms",
                             "unknown key"},
+                    BadCase{R"({"bodies": [{"type": "ragdoll", "color": [0, 2, 0]}]})",
+                            "/bodies/0/color", "[0, 1]"},
                     BadCase{R"({"bodies": [{"type": "ragdoll", "count": 2}],
                     "joints": [{"type": "ball", "body_b": "ragdoll_head"}]})",
                             "/joints/0/body_b", "no body is named \"ragdoll_head\""}));
@@ -588,7 +590,7 @@ TEST(Scene, RagdollGeneratorMakesBodiesAndJoints) {
       {"type": "ragdoll", "count": [2, 1, 3], "position": [0, 1, 0], "spacing": [1, 2, 0.7],
        "scale": 1.0, "velocity": [0, 0, 1], "joint_friction": 0.5, "material": "light"},
       {"name": "hook", "type": "static", "position": [0, 3, 0]},
-      {"type": "ragdoll", "name": "bob", "position": [5, 2, 0], "scale": 0.5}
+      {"type": "ragdoll", "name": "bob", "position": [5, 2, 0], "scale": 0.5, "color": [1, 0, 0]}
     ],
     "joints": [{"type": "ball", "body_a": "hook", "body_b": "ragdoll_5_head",
                 "anchor_a": [1, -1.32, 1.4]}] })",
@@ -608,6 +610,11 @@ TEST(Scene, RagdollGeneratorMakesBodiesAndJoints) {
   const std::size_t bob = 1 + 6 * kParts + 1;
   EXPECT_EQ(s.bodies[bob].settings.name, "bob_pelvis");  // one ragdoll: no number
   EXPECT_TRUE(s.bodies[bob].settings.position.isApprox(Vec3(5, 2, 0)));
+  for (std::size_t i = bob; i < bob + kParts; ++i) {
+    ASSERT_TRUE(s.bodies[i].shapes[0].color.has_value());
+    EXPECT_EQ(*s.bodies[i].shapes[0].color, Vec3(1, 0, 0));
+  }
+  EXPECT_FALSE(s.bodies[1].shapes[0].color.has_value());
   // Each ragdoll's joints join its own parts and carry the generator's pointer; the joints
   // section's come last.
   for (std::size_t j = 0; j < 7 * kJoints; ++j) {
