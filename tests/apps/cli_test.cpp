@@ -344,11 +344,11 @@ TEST_F(Cli, BadJointIsBadInputNamingThePointer) {
     EXPECT_NE(r.output.find(file + ": /joints/1/body_b: no body is named \"c\""), std::string::npos)
         << r.output;
   }
-  Result unsupported = run("run " + write("u.json", R"({"bodies": [{"name": "a"}],
-      "joints": [{"type": "six_dof", "body_b": "a"}]})"));
-  EXPECT_EQ(unsupported.code, 2) << unsupported.output;
-  EXPECT_NE(unsupported.output.find("/joints/0/type"), std::string::npos) << unsupported.output;
-  EXPECT_NE(unsupported.output.find("not supported yet"), std::string::npos) << unsupported.output;
+  Result badAxis = run("run " + write("u.json", R"({"bodies": [{"name": "a"}],
+      "joints": [{"type": "six_dof", "body_b": "a", "axes": {"w": "free"}}]})"));
+  EXPECT_EQ(badAxis.code, 2) << badAxis.output;
+  EXPECT_NE(badAxis.output.find("/joints/0/axes/w"), std::string::npos) << badAxis.output;
+  EXPECT_NE(badAxis.output.find("unknown key"), std::string::npos) << badAxis.output;
 
   Result unwritable = run("run " + write("hang.json", kHanging) + " --steps 1 --record-joints " +
                           path("no/such/dir.csv"));
