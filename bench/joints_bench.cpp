@@ -38,6 +38,7 @@
 
 #include "inertia/world/builders.h"
 #include "inertia/world/world.h"
+#include "peers.h"
 #include "thread_sweep.h"
 
 using namespace inertia;
@@ -128,16 +129,8 @@ Anchors anchorsOf(const AssemblyJoint& j) {
   std::exit(1);
 }
 
-// Each body of these scenes has one shape at its origin (so its origin is its centre of mass,
-// as the peers need).
-const ShapeDesc& onlyShape(const BodyDesc& d) {
-  if (d.shapes.size() != 1 || !d.shapes[0].local.p.isZero() ||
-      !d.shapes[0].local.q.coeffs().isApprox(Quat::Identity().coeffs())) {
-    std::fprintf(stderr, "joints bench: one shape at the body's origin expected\n");
-    std::exit(1);
-  }
-  return d.shapes[0];
-}
+using bench::bt;
+using bench::onlyShape;
 
 Result runInertia(const Scene& scene, int threads) {
   World world({.threads = threads, .sleeping = false});
@@ -178,73 +171,13 @@ Result runInertia(const Scene& scene, int threads) {
   return r;
 }
 
-btVector3 bt(const Vec3& v) { return {btScalar(v.x()), btScalar(v.y()), btScalar(v.z())}; }
-btQuaternion bt(const Quat& q) {
-  return {btScalar(q.x()), btScalar(q.y()), btScalar(q.z()), btScalar(q.w())};
-}
-
-// The volume of a shape (m^3), for the peers' masses.
-double volume(const Shape& shape) {
-  constexpr double pi = std::numbers::pi;
-  if (const Sphere* s = shape.getIf<Sphere>())
-    return 4.0 / 3.0 * pi * std::pow(double(s->radius), 3);
-  if (const Box* b = shape.getIf<Box>()) return 8.0 * double(b->halfExtents.prod());
-  if (const Capsule* c = shape.getIf<Capsule>()) {
-    const double r = c->radius;
-    return pi * r * r * 2 * double(c->halfHeight) + 4.0 / 3.0 * pi * r * r * r;
-  }
-  std::fprintf(stderr, "joints bench: sphere, box and capsule bodies only\n");
-  std::exit(1);
-}
-
 Result runBullet(const Scene& scene) {
-  btDefaultCollisionConfiguration config;
-  btCollisionDispatcher dispatcher(&config);
-  btDbvtBroadphase broadPhase;
-  btSequentialImpulseConstraintSolver solver;
-  btDiscreteDynamicsWorld world(&dispatcher, &broadPhase, &solver, &config);
-  world.setGravity(btVector3(0, btScalar(-9.81), 0));
-
-  std::vector<std::unique_ptr<btCollisionShape>> shapes;
-  std::vector<std::unique_ptr<btDefaultMotionState>> motions;
-  std::vector<std::unique_ptr<btRigidBody>> bodies;
-  std::vector<std::unique_ptr<btTypedConstraint>> constraints;
-  auto makeBody = [&](btCollisionShape* shape, btScalar mass, const btTransform& pose,
-                      const Material& m) {
-    shapes.emplace_back(shape);
-    btVector3 inertia(0, 0, 0);
-    if (mass > 0) shape->calculateLocalInertia(mass, inertia);
-    motions.push_back(std::make_unique<btDefaultMotionState>(pose));
-    btRigidBody::btRigidBodyConstructionInfo info(mass, motions.back().get(), shape, inertia);
-    // Bullet multiplies the two bodies' coefficients; sqrt on each gives the geometric mean,
-    // Inertia's default rule.
-    info.m_friction = btScalar(std::sqrt(double(m.friction)));
-    info.m_restitution = btScalar(m.restitution);
-    bodies.push_back(std::make_unique<btRigidBody>(info));
-    if (mass > 0) bodies.back()->setActivationState(DISABLE_DEACTIVATION);
-    world.addRigidBody(bodies.back().get());
-    return bodies.back().get();
-  };
+  bench::BulletWorld world;
   if (scene.ground)
-    makeBody(new btStaticPlaneShape(btVector3(0, 1, 0), 0), 0, btTransform::getIdentity(),
-             material());
+    world.add(new btStaticPlaneShape(btVector3(0, 1, 0), 0), 0, btTransform::getIdentity(),
+              material());
   std::vector<btRigidBody*> rb;
-  for (const BodyDesc& d : scene.assembly.bodies) {
-    const ShapeDesc& s = onlyShape(d);
-    btCollisionShape* shape = nullptr;
-    if (const Sphere* sp = s.shape.getIf<Sphere>()) {
-      shape = new btSphereShape(btScalar(sp->radius));
-    } else if (const Box* b = s.shape.getIf<Box>()) {
-      shape = new btBoxShape(bt(b->halfExtents));  // its 0.04 m margin inside the extents
-    } else if (const Capsule* c = s.shape.getIf<Capsule>()) {
-      shape = new btCapsuleShape(btScalar(c->radius), btScalar(2 * c->halfHeight));  // along y
-    }
-    const bool isStatic = d.settings.type == BodyType::Static;
-    const btScalar mass = isStatic ? 0 : btScalar(double(s.material.density) * volume(s.shape));
-    rb.push_back(makeBody(
-        shape, mass, btTransform(bt(d.settings.orientation.normalized()), bt(d.settings.position)),
-        s.material));
-  }
+  for (const BodyDesc& d : scene.assembly.bodies) rb.push_back(world.add(d));
   // Each joint's bodies (A null for the world, then its anchor is a world point) and anchors.
   struct Pin {
     btRigidBody* a;
@@ -267,15 +200,15 @@ Result runBullet(const Scene& scene) {
       if (hinge->limits)
         h->setLimit(btScalar(-hinge->limits->upper), btScalar(-hinge->limits->lower));
       collide = hinge->collideConnected;
-      constraints.push_back(std::move(h));
+      world.add(std::move(h), collide);
+      continue;
     } else {
       const auto& ball = std::get<BallJointSettings>(j.settings);
       collide = ball.collideConnected;
       if (a == nullptr) {
-        constraints.push_back(std::make_unique<btPoint2PointConstraint>(*b, bt(an.b)));
+        world.add(std::make_unique<btPoint2PointConstraint>(*b, bt(an.b)), collide);
       } else if (scene.ball == BulletBall::PointToPoint) {
-        constraints.push_back(
-            std::make_unique<btPoint2PointConstraint>(*a, *b, bt(an.a), bt(an.b)));
+        world.add(std::make_unique<btPoint2PointConstraint>(*a, *b, bt(an.a), bt(an.b)), collide);
       } else {
         // Frames that coincide now: A's axes, expressed in B's frame; the spans keep their
         // default (no cone or twist limit).
@@ -283,10 +216,9 @@ Result runBullet(const Scene& scene) {
         const btQuaternion qb = b->getWorldTransform().getRotation();
         const btTransform frameA(btQuaternion::getIdentity(), bt(an.a));
         const btTransform frameB(qb.inverse() * qa, bt(an.b));
-        constraints.push_back(std::make_unique<btConeTwistConstraint>(*a, *b, frameA, frameB));
+        world.add(std::make_unique<btConeTwistConstraint>(*a, *b, frameA, frameB), collide);
       }
     }
-    world.addConstraint(constraints.back().get(), !collide);
   }
   auto worstError = [&] {
     double worst = 0;
@@ -302,7 +234,7 @@ Result runBullet(const Scene& scene) {
   double total = 0;
   for (int i = 0; i < gSteps; ++i) {
     const auto t0 = Clock::now();
-    world.stepSimulation(btScalar(kDt), 0);  // maxSubSteps 0: exactly one step of kDt
+    world.step(kDt);
     total += std::chrono::duration<double>(Clock::now() - t0).count();
     r.maxError = std::max(r.maxError, worstError());
   }
@@ -313,85 +245,22 @@ Result runBullet(const Scene& scene) {
     const btVector3 v = b->getLinearVelocity(), w = b->getAngularVelocity();
     const btVector3& p = b->getCenterOfMassPosition();
     if (!std::isfinite(double(p.x() + p.y() + p.z() + v.length2() + w.length2()))) ++r.nonFinite;
-    const btVector3 iw = b->getInvInertiaTensorWorld().inverse() * w;
-    r.kineticEnergy +=
-        0.5 * double(1 / b->getInvMass()) * double(v.length2()) + 0.5 * double(w.dot(iw));
+    r.kineticEnergy += bench::BulletWorld::kineticEnergy(*b);
   }
-  for (auto& c : constraints) world.removeConstraint(c.get());
-  for (auto& b : bodies) world.removeRigidBody(b.get());
   return r;
 }
 
 #ifdef INERTIA_BENCH_ODE
-// ODE: a hash space, contacts from dCollide (at most 4 per pair) as contact joints with friction
-// mu = 0.6 (dContactApprox1) and no bounce, none between bodies a joint connects; the world's
-// default ERP 0.2 and CFM; dWorldQuickStep with its default 20 iterations.
-struct OdeWorld {
-  dWorldID world = dWorldCreate();
-  dSpaceID space = dHashSpaceCreate(nullptr);
-  dJointGroupID contacts = dJointGroupCreate(0);
-  ~OdeWorld() {
-    dJointGroupDestroy(contacts);
-    dSpaceDestroy(space);
-    dWorldDestroy(world);
-  }
-};
-
-void odeNear(void* data, dGeomID g1, dGeomID g2) {
-  OdeWorld& w = *static_cast<OdeWorld*>(data);
-  const dBodyID b1 = dGeomGetBody(g1), b2 = dGeomGetBody(g2);
-  if (b1 == nullptr && b2 == nullptr) return;
-  if (b1 != nullptr && b2 != nullptr && dAreConnectedExcluding(b1, b2, dJointTypeContact)) return;
-  constexpr int kMax = 4;
-  dContact contact[kMax] = {};
-  const int n = dCollide(g1, g2, kMax, &contact[0].geom, sizeof(dContact));
-  for (int i = 0; i < n; ++i) {
-    contact[i].surface.mode = dContactApprox1;
-    contact[i].surface.mu = double(kFriction);
-    const dJointID j = dJointCreateContact(w.world, w.contacts, &contact[i]);
-    dJointAttach(j, b1, b2);
-  }
-}
-
 Result runOde(const Scene& scene) {
-  OdeWorld w;
-  dWorldSetGravity(w.world, 0, -9.81, 0);
-  dWorldSetAutoDisableFlag(w.world, 0);
-  if (scene.ground) dCreatePlane(w.space, 0, 1, 0, 0);
-  std::vector<dBodyID> bodies;
-  for (const BodyDesc& d : scene.assembly.bodies) {
-    const ShapeDesc& s = onlyShape(d);
-    const double density = double(s.material.density);
-    dMass mass;
-    dGeomID geom = nullptr;
-    dQuaternion offset = {1, 0, 0, 0};
-    if (const Sphere* sp = s.shape.getIf<Sphere>()) {
-      geom = dCreateSphere(w.space, sp->radius);
-      dMassSetSphere(&mass, density, sp->radius);
-    } else if (const Box* b = s.shape.getIf<Box>()) {
-      const Vec3 size = 2 * b->halfExtents;
-      geom = dCreateBox(w.space, size.x(), size.y(), size.z());
-      dMassSetBox(&mass, density, size.x(), size.y(), size.z());
-    } else if (const Capsule* c = s.shape.getIf<Capsule>()) {
-      // ODE's capsules lie along their z axis: turned -90 degrees about x onto the body's y.
-      geom = dCreateCapsule(w.space, c->radius, 2 * c->halfHeight);
-      dMassSetCapsule(&mass, density, 2, c->radius, 2 * c->halfHeight);
-      offset[0] = std::sqrt(0.5);
-      offset[1] = -std::sqrt(0.5);
-    } else {
-      std::exit(1);
-    }
-    const dBodyID body = dBodyCreate(w.world);
-    dBodySetMass(body, &mass);
-    const Vec3& x = d.settings.position;
-    const Quat q = d.settings.orientation.normalized();
-    const dQuaternion dq = {q.w(), q.x(), q.y(), q.z()};
-    dBodySetPosition(body, x.x(), x.y(), x.z());
-    dBodySetQuaternion(body, dq);
-    dGeomSetBody(geom, body);
-    dGeomSetOffsetQuaternion(geom, offset);
-    bodies.push_back(body);
+  bench::OdeWorld w{double(kFriction)};
+  if (scene.ground) {
+    BodyDesc ground;
+    ground.settings.type = BodyType::Static;
+    ground.shapes.push_back({.shape = Plane{Vec3::UnitY(), 0}, .material = material()});
+    w.add(ground);
   }
+  std::vector<dBodyID> bodies;
+  for (const BodyDesc& d : scene.assembly.bodies) bodies.push_back(w.add(d));
   std::vector<dJointID> joints;
   for (const AssemblyJoint& j : scene.assembly.joints) {
     const auto* ball = std::get_if<BallJointSettings>(&j.settings);
@@ -419,27 +288,17 @@ Result runOde(const Scene& scene) {
   double total = 0;
   for (int i = 0; i < gSteps; ++i) {
     const auto t0 = Clock::now();
-    dSpaceCollide(w.space, &w, odeNear);
-    dWorldQuickStep(w.world, double(kDt));
-    dJointGroupEmpty(w.contacts);
+    w.step(kDt);
     total += std::chrono::duration<double>(Clock::now() - t0).count();
     r.maxError = std::max(r.maxError, worstError());
   }
   r.msPerStep = 1e3 * total / gSteps;
   r.finalError = worstError();
   for (const dBodyID b : bodies) {
-    dMass m;
-    dBodyGetMass(b, &m);
     const dReal* v = dBodyGetLinearVel(b);
     const dReal* wv = dBodyGetAngularVel(b);
     if (!std::isfinite(v[0] + v[1] + v[2] + wv[0] + wv[1] + wv[2])) ++r.nonFinite;
-    // The rotational energy in the body's frame: w_b = R^T w, R and I row-major 3 x 4.
-    const dReal* R = dBodyGetRotation(b);
-    double wb[3], e = 0;
-    for (int k = 0; k < 3; ++k) wb[k] = R[k] * wv[0] + R[4 + k] * wv[1] + R[8 + k] * wv[2];
-    for (int k = 0; k < 3; ++k)
-      for (int l = 0; l < 3; ++l) e += wb[k] * m.I[4 * k + l] * wb[l];
-    r.kineticEnergy += 0.5 * m.mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) + 0.5 * e;
+    r.kineticEnergy += bench::OdeWorld::kineticEnergy(b);
   }
   return r;
 }
@@ -451,14 +310,8 @@ int dynamicCount(const Scene& s) {
   return n;
 }
 
-// Inertia's mean ms per step in each phase, "-" for the peers.
 std::string phaseSplit(const Result& r) {
-  if (!r.hasPhases) return "-";
-  const double ms = 1e3 / gSteps;
-  char split[96];
-  std::snprintf(split, sizeof split, "%.2f / %.2f / %.2f / %.2f", ms * r.phases.broadPhase,
-                ms * r.phases.narrowPhase, ms * r.phases.solver, ms * r.phases.integration);
-  return split;
+  return bench::phaseSplit(r.hasPhases ? &r.phases : nullptr, gSteps);
 }
 
 void printTableHeader() {

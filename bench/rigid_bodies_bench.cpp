@@ -32,6 +32,7 @@
 
 #include "inertia/world/builders.h"
 #include "inertia/world/world.h"
+#include "peers.h"
 #include "thread_sweep.h"
 
 using namespace inertia;
@@ -170,64 +171,15 @@ Result runInertia(const Scene& scene, const SolverSettings& solver, int threads)
   return r;
 }
 
-btVector3 bt(const Vec3& v) { return {btScalar(v.x()), btScalar(v.y()), btScalar(v.z())}; }
-
 Result runBullet(const Scene& scene) {
-  btDefaultCollisionConfiguration config;
-  btCollisionDispatcher dispatcher(&config);
-  btDbvtBroadphase broadPhase;
-  btSequentialImpulseConstraintSolver solver;
-  btDiscreteDynamicsWorld world(&dispatcher, &broadPhase, &solver, &config);
-  world.setGravity(btVector3(0, btScalar(-9.81), 0));
-
-  std::vector<std::unique_ptr<btCollisionShape>> shapes;
-  std::vector<std::unique_ptr<btDefaultMotionState>> motions;
-  std::vector<std::unique_ptr<btRigidBody>> bodies;
+  bench::BulletWorld world;
   std::vector<btRigidBody*> dynamic;
-  auto add = [&](const BodyDesc& d) {
-    if (d.shapes.size() != 1) std::abort();  // the scenes here have one shape, at the origin
-    const ShapeDesc& s = d.shapes[0];
-    double volume = 0;
-    if (const Plane* p = s.shape.getIf<Plane>()) {
-      shapes.push_back(std::make_unique<btStaticPlaneShape>(bt(p->normal), btScalar(p->offset)));
-    } else if (const Box* b = s.shape.getIf<Box>()) {
-      // btBoxShape keeps its collision margin (0.04 m) inside the given half extents.
-      shapes.push_back(std::make_unique<btBoxShape>(bt(b->halfExtents)));
-      volume = 8.0 * double(b->halfExtents.prod());
-    } else if (const Sphere* sp = s.shape.getIf<Sphere>()) {
-      shapes.push_back(std::make_unique<btSphereShape>(btScalar(sp->radius)));
-      volume = 4.0 / 3.0 * std::numbers::pi * std::pow(double(sp->radius), 3);
-    } else {
-      std::abort();
-    }
-    const bool isStatic = d.settings.type == BodyType::Static;
-    const btScalar mass = isStatic ? 0 : btScalar(double(s.material.density) * volume);
-    btVector3 inertia(0, 0, 0);
-    if (!isStatic) shapes.back()->calculateLocalInertia(mass, inertia);
-    const Quat& q = d.settings.orientation;
-    motions.push_back(std::make_unique<btDefaultMotionState>(btTransform(
-        btQuaternion(btScalar(q.x()), btScalar(q.y()), btScalar(q.z()), btScalar(q.w())),
-        bt(d.settings.position))));
-    btRigidBody::btRigidBodyConstructionInfo info(mass, motions.back().get(), shapes.back().get(),
-                                                  inertia);
-    // Bullet multiplies the two bodies' coefficients; sqrt on each gives the geometric mean,
-    // Inertia's default rule (0.6 between any two of these materials).
-    info.m_friction = btScalar(std::sqrt(double(s.material.friction)));
-    info.m_restitution = btScalar(s.material.restitution);
-    bodies.push_back(std::make_unique<btRigidBody>(info));
-    if (!isStatic) {
-      bodies.back()->setActivationState(DISABLE_DEACTIVATION);
-      dynamic.push_back(bodies.back().get());
-    }
-    world.addRigidBody(bodies.back().get());
-  };
-  for (const BodyDesc& d : scene.statics) add(d);
-  for (const BodyDesc& d : scene.dynamics) add(d);
-
+  for (const BodyDesc& d : scene.statics) world.add(d);
+  for (const BodyDesc& d : scene.dynamics) dynamic.push_back(world.add(d));
   double total = 0;
   for (int i = 0; i < kSteps; ++i) {
     const auto t0 = Clock::now();
-    world.stepSimulation(btScalar(kDt), 0);  // maxSubSteps 0: exactly one step of kDt
+    world.step(kDt);
     total += std::chrono::duration<double>(Clock::now() - t0).count();
   }
   Result r;
@@ -236,97 +188,22 @@ Result runBullet(const Scene& scene) {
   for (const btRigidBody* b : dynamic) {
     const btVector3& p = b->getCenterOfMassPosition();
     final.emplace_back(Real(p.x()), Real(p.y()), Real(p.z()));
-    const btVector3 v = b->getLinearVelocity(), w = b->getAngularVelocity();
-    const btVector3 iw = b->getInvInertiaTensorWorld().inverse() * w;
-    r.kineticEnergy +=
-        0.5 * double(1 / b->getInvMass()) * double(v.length2()) + 0.5 * double(w.dot(iw));
+    r.kineticEnergy += bench::BulletWorld::kineticEnergy(*b);
   }
   checkPositions(scene, final, r);
-  for (auto& b : bodies) world.removeRigidBody(b.get());
   return r;
 }
 
 #ifdef INERTIA_BENCH_ODE
-// ODE: a hash space, contacts from dCollide (at most 4 per pair, as the other engines'
-// manifolds) as contact joints with friction mu = 0.6 scaled by the normal force
-// (dContactApprox1, ODE's Coulomb approximation), and no bounce; the world's default ERP 0.2 and
-// CFM; dWorldQuickStep with its default 20 iterations; auto-disable off (its default).
-struct OdeWorld {
-  dWorldID world = dWorldCreate();
-  dSpaceID space = dHashSpaceCreate(nullptr);
-  dJointGroupID contacts = dJointGroupCreate(0);
-  ~OdeWorld() {
-    dJointGroupDestroy(contacts);
-    dSpaceDestroy(space);
-    dWorldDestroy(world);
-  }
-};
-
-void odeNear(void* data, dGeomID g1, dGeomID g2) {
-  OdeWorld& w = *static_cast<OdeWorld*>(data);
-  const dBodyID b1 = dGeomGetBody(g1), b2 = dGeomGetBody(g2);
-  if (b1 == nullptr && b2 == nullptr) return;  // two static geoms
-  constexpr int kMax = 4;
-  dContact contact[kMax] = {};
-  const int n = dCollide(g1, g2, kMax, &contact[0].geom, sizeof(dContact));
-  for (int i = 0; i < n; ++i) {
-    contact[i].surface.mode = dContactApprox1;
-    contact[i].surface.mu = double(kFriction);
-    const dJointID j = dJointCreateContact(w.world, w.contacts, &contact[i]);
-    dJointAttach(j, b1, b2);
-  }
-}
-
 Result runOde(const Scene& scene) {
-  OdeWorld w;
-  dWorldSetGravity(w.world, 0, -9.81, 0);
-  dWorldSetAutoDisableFlag(w.world, 0);
+  bench::OdeWorld w{double(kFriction)};
   std::vector<dBodyID> dynamic;
-  for (const std::vector<BodyDesc>* list : {&scene.statics, &scene.dynamics}) {
-    for (const BodyDesc& d : *list) {
-      if (d.shapes.size() != 1) std::abort();  // one shape, at the origin
-      const ShapeDesc& s = d.shapes[0];
-      const bool isStatic = d.settings.type == BodyType::Static;
-      dGeomID geom = nullptr;
-      dMass mass;
-      const double density = double(s.material.density);
-      if (const Plane* p = s.shape.getIf<Plane>()) {
-        geom = dCreatePlane(w.space, p->normal.x(), p->normal.y(), p->normal.z(), p->offset);
-      } else if (const Box* b = s.shape.getIf<Box>()) {
-        const Vec3 size = 2 * b->halfExtents;  // ODE takes full side lengths
-        geom = dCreateBox(w.space, size.x(), size.y(), size.z());
-        dMassSetBox(&mass, density, size.x(), size.y(), size.z());
-      } else if (const Sphere* sp = s.shape.getIf<Sphere>()) {
-        geom = dCreateSphere(w.space, sp->radius);
-        dMassSetSphere(&mass, density, sp->radius);
-      } else {
-        std::abort();
-      }
-      const Vec3& x = d.settings.position;
-      const Quat& q = d.settings.orientation;
-      const dQuaternion dq = {q.w(), q.x(), q.y(), q.z()};  // ODE: w first
-      if (isStatic) {
-        if (s.shape.getIf<Plane>() == nullptr) {
-          dGeomSetPosition(geom, x.x(), x.y(), x.z());
-          dGeomSetQuaternion(geom, dq);
-        }
-        continue;
-      }
-      const dBodyID body = dBodyCreate(w.world);
-      dBodySetMass(body, &mass);
-      dBodySetPosition(body, x.x(), x.y(), x.z());
-      dBodySetQuaternion(body, dq);
-      dGeomSetBody(geom, body);
-      dynamic.push_back(body);
-    }
-  }
-
+  for (const BodyDesc& d : scene.statics) w.add(d);
+  for (const BodyDesc& d : scene.dynamics) dynamic.push_back(w.add(d));
   double total = 0;
   for (int i = 0; i < kSteps; ++i) {
     const auto t0 = Clock::now();
-    dSpaceCollide(w.space, &w, odeNear);
-    dWorldQuickStep(w.world, double(kDt));
-    dJointGroupEmpty(w.contacts);
+    w.step(kDt);
     total += std::chrono::duration<double>(Clock::now() - t0).count();
   }
   Result r;
@@ -335,31 +212,15 @@ Result runOde(const Scene& scene) {
   for (const dBodyID b : dynamic) {
     const dReal* p = dBodyGetPosition(b);
     final.emplace_back(Real(p[0]), Real(p[1]), Real(p[2]));
-    dMass m;
-    dBodyGetMass(b, &m);
-    const dReal* v = dBodyGetLinearVel(b);
-    const dReal* wv = dBodyGetAngularVel(b);
-    // The rotational energy in the body's frame: w_b = R^T w, R and I row-major 3 x 4.
-    const dReal* R = dBodyGetRotation(b);
-    double wb[3], e = 0;
-    for (int k = 0; k < 3; ++k) wb[k] = R[k] * wv[0] + R[4 + k] * wv[1] + R[8 + k] * wv[2];
-    for (int k = 0; k < 3; ++k)
-      for (int l = 0; l < 3; ++l) e += wb[k] * m.I[4 * k + l] * wb[l];
-    r.kineticEnergy += 0.5 * m.mass * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) + 0.5 * e;
+    r.kineticEnergy += bench::OdeWorld::kineticEnergy(b);
   }
   checkPositions(scene, final, r);
   return r;
 }
 #endif
 
-// Inertia's mean ms per step in each phase, "-" for the peers.
 std::string phaseSplit(const Result& r) {
-  if (!r.hasPhases) return "-";
-  const double ms = 1e3 / kSteps;
-  char split[96];
-  std::snprintf(split, sizeof split, "%.2f / %.2f / %.2f / %.2f", ms * r.phases.broadPhase,
-                ms * r.phases.narrowPhase, ms * r.phases.solver, ms * r.phases.integration);
-  return split;
+  return bench::phaseSplit(r.hasPhases ? &r.phases : nullptr, kSteps);
 }
 
 void printTableHeader() {
