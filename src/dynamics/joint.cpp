@@ -412,7 +412,7 @@ void RigidBodySystem::setJointAxis(JointId id, int axis, const JointAxis& settin
              settings.motor, settings.spring, settings.friction);
   j.axes[std::size_t(axis)] = settings;
   j.parts.axes[std::size_t(axis)] = {};
-  j.parts.lock = {};  // its rows change
+  j.parts.lockImpulse.setZero();  // its rows change
   wakeJoint(*d_, j);
 }
 

@@ -19,11 +19,10 @@ inline constexpr std::uint32_t kWorldBody = std::numeric_limits<std::uint32_t>::
 /// The parts a joint may use, with their accumulated impulses (kept between steps for warm
 /// starting; each type uses some of them, see joint_solver.cpp).
 struct JointParts {
-  /// Every locked row of the joint, solved together: a ball joint's anchors (3 rows), a
-  /// hinge's anchors and aligned axes (5), a slider's rotation and off-axis offsets (5), a
-  /// weld's all (6), a six-DOF joint's locked degrees of freedom. Solved in the step's
-  /// JointConstraint; the record keeps its impulses from step to step.
-  RowBlock lock;
+  /// The impulses of the joint's locked rows (JointConstraint::lock), kept for the next
+  /// step's warm start.
+  Eigen::Matrix<Real, RowBlock::kMax, 1> lockImpulse =
+      Eigen::Matrix<Real, RowBlock::kMax, 1>::Zero();
   RowBlock spin;  ///< A ball joint's rotation friction (3 angular rows).
   AxisRows cone;  ///< A ball joint's swing limit.
   /// The free degrees of freedom x, y, z, rx, ry, rz of JointRecord::axes (a hinge's angle is
@@ -75,7 +74,11 @@ struct JointConstraint {
   Quat frameB = Quat::Identity();
   Vec3 fallbackAxis = Vec3::UnitY();  ///< A distance joint's direction when its length is 0.
   JointParts* parts = nullptr;        ///< The record's other parts: solved in place.
-  RowBlock lock;   ///< The locked rows (JointParts::lock's impulses at the start).
+  /// Every locked row of the joint, solved together: a ball joint's anchors (3 rows), a
+  /// hinge's anchors and aligned axes (5), a slider's rotation and off-axis offsets (5), a
+  /// weld's all (6), a six-DOF joint's locked degrees of freedom. Kept here, in colour order,
+  /// so the passes read it in sequence; JointParts::lockImpulse carries its impulses.
+  RowBlock lock;
   int stamp = -1;  ///< The position update its rows and coordinates were prepared for.
   std::array<Real, 6> coordinate{};  ///< The free coordinates then (x, y, z, rx, ry, rz).
   Real swing = 0;                    ///< A ball joint's swing then (rad).

@@ -369,7 +369,7 @@ void prepareJoints(RigidBodyData& D, StepWorkers& workers) {
       c.parts = &D.joints[c.joint].parts;
       // The locked rows' impulses for the warm start; the block itself lives in the
       // constraint, in colour order, so the passes read it in sequence.
-      c.lock.impulse = j.parts.lock.impulse;
+      c.lock.impulse = j.parts.lockImpulse;
       c.stamp = -1;
     }
   });
@@ -425,8 +425,7 @@ void storeJoints(RigidBodyData& D, Real h, StepWorkers& workers) {
       JointParts& p = j.parts;
       Vec3 linear = Vec3::Zero(), angular = Vec3::Zero();
       c.lock.reaction(linear, angular);
-      p.lock.impulse = c.lock.impulse;
-      p.lock.count = c.lock.count;
+      p.lockImpulse = c.lock.impulse;
       p.spin.reaction(linear, angular);
       p.cone.reaction(linear, angular);
       for (const AxisRows& ax : p.axes) ax.reaction(linear, angular);

@@ -21,7 +21,7 @@ struct JointPass {
   /// The relax pass: springs and servos sit it out. Their implicit rows were solved in the
   /// substep's iterations; solving them again after the position update would make each
   /// substep a different integrator (it restarts the implicit step from the new position),
-  /// which measurably slows and damps the spring (joint_test.cpp).
+  /// which measurably slows and damps the spring (joint_solver_test.cpp).
   bool relax = false;
   /// Which position update the pass follows (2 per substep: the solve passes, then the relax
   /// passes): a joint's rows and effective masses are computed once for each.
