@@ -2,6 +2,7 @@
 // (JointConstraint). The solver stage is joint_solver.h.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -61,12 +62,39 @@ struct JointRecord {
   bool overloaded = false;     ///< Past a threshold this step: breaks at its end.
 };
 
+/// Whether a joint has nothing to solve but its locked rows: no limit, motor, spring or
+/// friction on a free coordinate (a plain ball joint or hinge, a rigid weld).
+inline bool lockedOnly(const JointRecord& j) {
+  const auto driven = [](const JointAxis& a) {
+    return !a.locked && (a.limits || a.motor || a.spring || a.friction > 0);
+  };
+  switch (j.type) {
+    case JointType::Ball:
+      return j.friction <= 0 && !j.coneLimit && !j.axes[3].limits;
+    case JointType::Weld:
+      return !j.spring;
+    case JointType::Distance:
+      return j.minLength == j.maxLength && !j.spring;
+    default:
+      return std::none_of(j.axes.begin(), j.axes.end(), driven);
+  }
+}
+
 /// A joint in this step's solver: the solver bodies, and its frames at the step's start, from
 /// which each substep's are the bodies' motion since the start (as the contacts' anchors).
 struct JointConstraint {
-  std::uint32_t joint = 0;  ///< JointRecord index.
-  int bodyA = -1;           ///< Solver body, -1 for a static body or the world.
+  // The fields every pass reads come first (a large grid's passes are bound by memory).
+  int bodyA = -1;  ///< Solver body, -1 for a static body or the world.
   int bodyB = -1;
+  int stamp = -1;  ///< The position update its rows and coordinates were prepared for.
+  /// Nothing but the locked rows to solve (lockedOnly()): the passes leave the record alone.
+  bool lockedOnly = false;
+  /// Every locked row of the joint, solved together: a ball joint's anchors (3 rows), a
+  /// hinge's anchors and aligned axes (5), a slider's rotation and off-axis offsets (5), a
+  /// weld's all (6), a six-DOF joint's locked degrees of freedom. Kept here, in colour order,
+  /// so the passes read it in sequence; JointParts::lockImpulse carries its impulses.
+  RowBlock lock;
+  std::uint32_t joint = 0;  ///< JointRecord index.
   Vec3 rA = Vec3::Zero();  ///< Anchor minus centre of mass, world (m).
   Vec3 rB = Vec3::Zero();
   Vec3 deltaCenter = Vec3::Zero();  ///< cB - cA (m).
@@ -74,12 +102,6 @@ struct JointConstraint {
   Quat frameB = Quat::Identity();
   Vec3 fallbackAxis = Vec3::UnitY();  ///< A distance joint's direction when its length is 0.
   JointParts* parts = nullptr;        ///< The record's other parts: solved in place.
-  /// Every locked row of the joint, solved together: a ball joint's anchors (3 rows), a
-  /// hinge's anchors and aligned axes (5), a slider's rotation and off-axis offsets (5), a
-  /// weld's all (6), a six-DOF joint's locked degrees of freedom. Kept here, in colour order,
-  /// so the passes read it in sequence; JointParts::lockImpulse carries its impulses.
-  RowBlock lock;
-  int stamp = -1;  ///< The position update its rows and coordinates were prepared for.
   std::array<Real, 6> coordinate{};  ///< The free coordinates then (x, y, z, rx, ry, rz).
   Real swing = 0;                    ///< A ball joint's swing then (rad).
 };

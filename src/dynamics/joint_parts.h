@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 
 #include "contact_solver.h"
 #include "solver_body.h"
@@ -45,21 +46,38 @@ struct RowBlock {
   using Vector = Eigen::Matrix<Real, Eigen::Dynamic, 1, 0, kMax, 1>;
   using Matrix = Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic, 0, kMax, kMax>;
 
-  std::array<JointRow, kMax> rows{};
+  // The fields every pass reads come first (a large grid's passes are bound by memory).
   int count = 0;
+  /// Set by setPoint(): the block is a point constraint, three rows along the world axes with
+  /// lever arms `armA` and `armB` (a ball joint's anchors), prepared and solved in closed form
+  /// (Jolt's point constraint part) instead of row by row: K = (mA + mB) 1 - [rA] IA [rA] -
+  /// [rB] IB [rB] by its adjugate, J v = vB + wB x rB - vA - wA x rA.
+  bool point = false;
   Eigen::Matrix<Real, kMax, 1> impulse = Eigen::Matrix<Real, kMax, 1>::Zero();
-
-  void clear() { count = 0; }
-  void add(const JointRow& row) { rows[std::size_t(count++)] = row; }
-
-  // Set by prepare() after each position update: K^-1 (count x count, packed) and the
-  // position errors, which the passes until the next position update share.
-  std::array<Real, kMax * kMax> inverseMass{};
+  Vec3 armA = Vec3::Zero(), armB = Vec3::Zero();
+  // Set by prepare() after each position update: the position errors and K^-1 (count x count,
+  // packed), which the passes until the next position update share.
   Eigen::Matrix<Real, kMax, 1> error = Eigen::Matrix<Real, kMax, 1>::Zero();
+  std::array<Real, kMax * kMax> inverseMass{};
+  std::array<JointRow, kMax> rows{};
+
+  void clear() {
+    count = 0;
+    point = false;
+  }
+  void add(const JointRow& row) { rows[std::size_t(count++)] = row; }
+  /// The three anchor rows of a ball joint (an empty block before).
+  void setPoint(const Vec3& rA, const Vec3& rB) {
+    count = 3;
+    point = true;
+    armA = rA;
+    armB = rB;
+  }
 
   /// K^-1 (K = J M^-1 J^T) and C for the rows as they are now.
   void prepare(const SolverBody& a, const SolverBody& b, const Vector& C) {
     error.head(count) = C;
+    if (point && invertPoint(a, b)) return;
     switch (count) {
       case 1:
         return invert<1>(a, b);
@@ -98,10 +116,16 @@ struct RowBlock {
     b.v += b.invMass * p;
     b.w += b.invInertia * lb;
   }
-  void warmStart(SolverBody& a, SolverBody& b) const { apply(a, b, impulse.head(count)); }
+  void warmStart(SolverBody& a, SolverBody& b) const {
+    if (point)
+      applyPoint(a, b, impulse.head<3>());
+    else
+      apply(a, b, impulse.head(count));
+  }
 
   /// One equality solve towards C = 0 with `soft`'s coefficients.
   void solve(SolverBody& a, SolverBody& b, const Softness& soft) {
+    if (point) return solvePoint(a, b, soft);
     switch (count) {
       case 1:
         return solveFixed<1>(a, b, soft);
@@ -134,6 +158,10 @@ struct RowBlock {
   /// The force (or impulse) these rows put on B: the linear part and the torque beyond the
   /// linear part's moment about B's anchor.
   void reaction(Vec3& linear, Vec3& angular) const {
+    if (point) {
+      linear += impulse.head<3>();
+      return;
+    }
     for (std::size_t i = 0; i < std::size_t(count); ++i) {
       linear += rows[i].linear * impulse(int(i));
       angular += rows[i].angular() * impulse(int(i));
@@ -141,6 +169,65 @@ struct RowBlock {
   }
 
  private:
+  // [r]^T I^-1 [r] for a symmetric I^-1: the inverse mass a point at arm r gets from a body's
+  // rotation. With s_i = r x e_i the columns of [r] and t_i = I^-1 s_i, entry (i, j) is
+  // s_i . t_j; the upper triangle, mirrored.
+  static Mat3 armMass(const Mat3& invInertia, const Vec3& r) {
+    const Real x = r.x(), y = r.y(), z = r.z();
+    const Vec3 t0 = z * invInertia.col(1) - y * invInertia.col(2);
+    const Vec3 t1 = x * invInertia.col(2) - z * invInertia.col(0);
+    const Vec3 t2 = y * invInertia.col(0) - x * invInertia.col(1);
+    Mat3 k;
+    k(0, 0) = z * t0.y() - y * t0.z();
+    k(0, 1) = k(1, 0) = z * t1.y() - y * t1.z();
+    k(0, 2) = k(2, 0) = z * t2.y() - y * t2.z();
+    k(1, 1) = x * t1.z() - z * t1.x();
+    k(1, 2) = k(2, 1) = x * t2.z() - z * t2.x();
+    k(2, 2) = y * t2.x() - x * t2.y();
+    return k;
+  }
+  void applyPoint(SolverBody& a, SolverBody& b, const Vec3& lambda) const {
+    a.v -= a.invMass * lambda;
+    a.w -= a.invInertia.lazyProduct(armA.cross(lambda));
+    b.v += b.invMass * lambda;
+    b.w += b.invInertia.lazyProduct(armB.cross(lambda));
+  }
+  void solvePoint(SolverBody& a, SolverBody& b, const Softness& soft) {
+    const Vec3 rhs =
+        b.v + b.w.cross(armB) - a.v - a.w.cross(armA) + soft.biasRate * error.head<3>();
+    const Vec3 delta =
+        -soft.massScale * Eigen::Map<const Mat3>(inverseMass.data()).lazyProduct(rhs) -
+        soft.impulseScale * impulse.head<3>();
+    impulse.head<3>() += delta;
+    applyPoint(a, b, delta);
+  }
+  // K^-1 of a point constraint by the adjugate of the symmetric K. False where K is near
+  // singular (no moving body on either side has mass, which a joint never has, or a
+  // determinant lost to rounding): the caller falls back to the rows' LDLT.
+  bool invertPoint(const SolverBody& a, const SolverBody& b) {
+    const Mat3 k = (a.invMass + b.invMass) * Mat3::Identity() + armMass(a.invInertia, armA) +
+                   armMass(b.invInertia, armB);
+    const Real c00 = k(1, 1) * k(2, 2) - k(1, 2) * k(1, 2);
+    const Real c01 = k(0, 2) * k(1, 2) - k(0, 1) * k(2, 2);
+    const Real c02 = k(0, 1) * k(1, 2) - k(0, 2) * k(1, 1);
+    const Real det = k(0, 0) * c00 + k(0, 1) * c01 + k(0, 2) * c02;
+    const Real scale = k.trace();
+    if (!(det > std::numeric_limits<Real>::epsilon() * scale * scale * scale)) {
+      point = false;
+      for (int i = 0; i < 3; ++i)
+        rows[std::size_t(i)] = {Vec3::Unit(i), armA.cross(Vec3::Unit(i)),
+                                armB.cross(Vec3::Unit(i))};
+      return false;
+    }
+    const Real inv = 1 / det;
+    Mat3 m;
+    m << c00, c01, c02,                                                                     //
+        c01, k(0, 0) * k(2, 2) - k(0, 2) * k(0, 2), k(0, 1) * k(0, 2) - k(0, 0) * k(1, 2),  //
+        c02, k(0, 1) * k(0, 2) - k(0, 0) * k(1, 2), k(0, 0) * k(1, 1) - k(0, 1) * k(0, 1);
+    Eigen::Map<Mat3>(inverseMass.data()) = inv * m;
+    return true;
+  }
+
   // solve() for N rows, in fixed-size (unrolled) arithmetic.
   template <int N>
   void solveFixed(SolverBody& a, SolverBody& b, const Softness& soft) {

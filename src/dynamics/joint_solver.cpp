@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <utility>
 
 namespace inertia::detail {
@@ -21,13 +22,17 @@ struct Frame {
   Quat qA, qB;  // the joint's frames on A and B (world rotations)
 };
 
-Frame currentFrame(const JointConstraint& c, const SolverBody& a, const SolverBody& b) {
+// A plain ball joint needs the anchors only: `rotations` false leaves qA and qB unset.
+Frame currentFrame(const JointConstraint& c, const SolverBody& a, const SolverBody& b,
+                   bool rotations) {
   Frame f;
   f.rA = a.dR * c.rA;
   f.rB = b.dR * c.rB;
   f.d = (b.dp - a.dp) + (f.rB - f.rA) + c.deltaCenter;
-  f.qA = a.dq * c.frameA;
-  f.qB = b.dq * c.frameB;
+  if (rotations) {
+    f.qA = a.dq * c.frameA;
+    f.qB = b.dq * c.frameB;
+  }
   return f;
 }
 
@@ -119,7 +124,8 @@ void lockRows(JointConstraint& c, const JointRecord& j, const Frame& f, RowBlock
   const Vec3 armA = f.rA + f.d;
   switch (j.type) {
     case JointType::Ball:
-      anchors();
+      lock.setPoint(f.rA, f.rB);
+      C.head<3>() = f.d;
       break;
     case JointType::Hinge: {
       anchors();
@@ -237,9 +243,8 @@ void refresh(JointConstraint& c, const JointRecord& j, const SolverBody& a, cons
              int stamp) {
   if (c.stamp == stamp) return;
   c.stamp = stamp;
-  const Frame f = currentFrame(c, a, b);
-  JointParts& p = *c.parts;
-  freeRows(c, j, f, p, a, b);
+  const Frame f = currentFrame(c, a, b, !(c.lockedOnly && j.type == JointType::Ball));
+  if (!c.lockedOnly) freeRows(c, j, f, *c.parts, a, b);
   RowBlock::Vector C;
   lockRows(c, j, f, C);
   c.lock.prepare(a, b, C);
@@ -320,14 +325,13 @@ void solveRows(JointConstraint& c, const JointRecord& j, JointParts& p, SolverBo
 template <class F>
 void withBodies(const JointConstraint& c, std::vector<SolverBody>& bodies, F f) {
   // A moving body in place (no other joint or contact of the colour touches it), anything
-  // else as a copy whose writes are dropped.
-  SolverBody copyA{}, copyB{};
-  const auto pick = [&](int index, SolverBody& copy) -> SolverBody& {
-    if (index < 0) return copy;
+  // else as a copy whose writes are dropped (made only when needed: most joints have none).
+  std::optional<SolverBody> copyA, copyB;
+  const auto pick = [&](int index, std::optional<SolverBody>& copy) -> SolverBody& {
+    if (index < 0) return copy.emplace();
     SolverBody& body = bodies[std::size_t(index)];
     if (body.invMass > 0) return body;
-    copy = body;
-    return copy;
+    return copy.emplace(body);
   };
   f(pick(c.bodyA, copyA), pick(c.bodyB, copyB));
 }
@@ -380,8 +384,9 @@ void warmStartJoint(const RigidBodyData& D, JointConstraint& c, std::vector<Solv
   const JointRecord& j = D.joints[c.joint];
   withBodies(c, bodies, [&](SolverBody& a, SolverBody& b) {
     refresh(c, j, a, b, stamp);
-    JointParts& p = *c.parts;
     c.lock.warmStart(a, b);
+    if (c.lockedOnly) return;
+    JointParts& p = *c.parts;
     switch (j.type) {
       case JointType::Ball:
         if (j.friction > 0) p.spin.warmStart(a, b);
@@ -408,10 +413,12 @@ void warmStartJoint(const RigidBodyData& D, JointConstraint& c, std::vector<Solv
 
 void solveJoint(const RigidBodyData& D, JointConstraint& c, std::vector<SolverBody>& bodies,
                 const JointPass& pass) {
-  const JointRecord& j = D.joints[c.joint];
   withBodies(c, bodies, [&](SolverBody& a, SolverBody& b) {
-    refresh(c, j, a, b, pass.stamp);
-    solveRows(c, j, *c.parts, a, b, pass);
+    if (c.stamp != pass.stamp) refresh(c, D.joints[c.joint], a, b, pass.stamp);
+    if (c.lockedOnly)
+      c.lock.solve(a, b, pass.rigid);
+    else
+      solveRows(c, D.joints[c.joint], *c.parts, a, b, pass);
   });
 }
 
@@ -426,9 +433,11 @@ void storeJoints(RigidBodyData& D, Real h, StepWorkers& workers) {
       Vec3 linear = Vec3::Zero(), angular = Vec3::Zero();
       c.lock.reaction(linear, angular);
       p.lockImpulse = c.lock.impulse;
-      p.spin.reaction(linear, angular);
-      p.cone.reaction(linear, angular);
-      for (const AxisRows& ax : p.axes) ax.reaction(linear, angular);
+      if (!c.lockedOnly) {
+        p.spin.reaction(linear, angular);
+        p.cone.reaction(linear, angular);
+        for (const AxisRows& ax : p.axes) ax.reaction(linear, angular);
+      }
       j.force = linear / h;
       j.torque = angular / h;
       j.overloaded = j.force.norm() > j.breakForce || j.torque.norm() > j.breakTorque;

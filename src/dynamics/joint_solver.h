@@ -48,6 +48,7 @@ void addJointConstraints(RigidBodyData& D, Slot slot) {
     c.joint = ji;
     c.bodyA = j.bodyA == kWorldBody ? -1 : slot(j.bodyA);
     c.bodyB = slot(j.bodyB);
+    c.lockedOnly = lockedOnly(j);
     D.jointEdges.push_back({c.bodyA, c.bodyB});
   }
 }

@@ -156,8 +156,13 @@ int stepsFor(const World& world, double seconds) {
 // long arm, limits being rows of their own). The builders' tests see the like: 1.5 cm for a
 // ragdoll landing from 3 m, 1 cm at the whipping end of a chain. The tumbling is chaotic, so
 // the bounds (3 cm, 0.15 rad, 0.15 rad past a limit) leave half as much again. At the end, past
-// the impacts, joints are within 1 cm (the chain still whips: 5 mm), 0.03 rad (an elbow under
-// the pile of twelve, at rest: 0.019) and 0.01 past a limit. Only the bridges made to break do.
+// the impacts, joints are within 1 cm (the chain still whips: 5 mm). At rest a soft row gives
+// by its load over its stiffness, C = K F / omega^2 (the soft step's fixed point, omega = 2 pi
+// 120 Hz): the most loaded elbow under the ragdoll pile carries 977 N and 65 N m, and sits at
+// 5.6 mm, 0.034 rad and 0.012 rad past its limit (a forearm is light about its own axis). Which
+// elbow carries the pile is chaotic (another landing put 0.019 rad on it), so the bounds
+// (0.05 rad, 0.02 rad past a limit) leave half as much again. Only the bridges made to break
+// break.
 void runFiveSecondsWithJointsHolding(const Sample& s, bool breaks) {
   SCOPED_TRACE(s.group + "/" + s.name);
   const std::unique_ptr<World> world = io::instantiate(s.build());
@@ -178,8 +183,8 @@ void runFiveSecondsWithJointsHolding(const Sample& s, bool breaks) {
   JointWorst end;
   end.measure(*world);
   EXPECT_LT(end.position, Real(0.01));
-  EXPECT_LT(end.angle, Real(0.03));
-  EXPECT_LT(end.limit, Real(0.01));
+  EXPECT_LT(end.angle, Real(0.05));
+  EXPECT_LT(end.limit, Real(0.02));
   int broken = 0;
   for (JointId j : world->rigidBodies().joints()) broken += world->rigidBodies().isJointBroken(j);
   EXPECT_EQ(broken > 0, breaks) << broken << " broken";
