@@ -74,4 +74,5 @@ PYBIND11_MODULE(_inertia, m) {
   python::bindWorld(m);
   python::bindJoints(m);
   python::bindParticles(m);
+  python::bindBatch(m);
 }
