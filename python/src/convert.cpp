@@ -23,7 +23,9 @@ RealArray asReals(py::handle value, const char* arg) {
   if (value.is_none()) argumentError(arg, "expected numbers, got None");
   // forcecast: ints and float64 are accepted and rounded to Real.
   RealArray a = RealArray::ensure(value);
-  if (!a) argumentError(arg, "expected numbers, got " + std::string(py::str(py::type::of(value))));
+  if (!a)
+    argumentError(arg, "expected numbers (a regular array of them), got " +
+                           std::string(py::str(py::type::of(value))));
   return a;
 }
 

@@ -34,7 +34,7 @@ JointLimits toLimits(py::handle value, const char* arg) {
 template <class T>
 T toInstance(py::handle value, const char* arg, const char* typeName) {
   if (!py::isinstance<T>(value))
-    argumentError(arg, std::string("expected an inertia.") + typeName + " or None, got " +
+    argumentError(arg, std::string("expected an inertia.") + typeName + ", got " +
                            std::string(py::str(py::type::of(value))));
   return value.cast<T>();
 }

@@ -3,6 +3,8 @@
 // (n, 3) block), so reading them copies nothing and writing into them moves the particles.
 #include <pybind11/stl.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -76,6 +78,10 @@ py::array poolView(py::object self, ParticleSystemId id, Real* data, std::size_t
 
 void writeRows(std::span<Real> dst, py::handle value, const char* arg, std::size_t n) {
   RealArray a = toMatrix(value, arg, py::ssize_t(n), 3);
+  // The pool trusts its values (the library checks them where they enter: emitters); here
+  // they enter from Python.
+  if (!std::all_of(a.data(), a.data() + 3 * n, [](Real x) { return std::isfinite(x); }))
+    argumentError(arg, "values must be finite");
   std::copy_n(a.data(), 3 * n, dst.data());
 }
 

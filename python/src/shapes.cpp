@@ -221,9 +221,9 @@ void bindShapes(py::module_& m) {
                if (!py::isinstance<py::tuple>(c) || py::len(c) < 1 || py::len(c) > 3)
                  argumentError("children", "each child is (shape, position, orientation)");
                py::tuple t = py::reinterpret_borrow<py::tuple>(c);
-               list.push_back(
-                   {toShape(t[0], "children"),
-                    toPose(t.size() > 1 ? t[1] : py::none(), t.size() > 2 ? t[2] : py::none())});
+               const py::object position = t.size() > 1 ? py::object(t[1]) : py::none();
+               const py::object orientation = t.size() > 2 ? py::object(t[2]) : py::none();
+               list.push_back({toShape(t[0], "children"), toPose(position, orientation)});
              }
              return std::make_shared<Compound>(std::move(list));
            }),

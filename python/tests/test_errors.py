@@ -59,6 +59,15 @@ def test_parse_scene_reports_pointers_into_dicts():
         (lambda: inertia.World(gravity=(0, 1)), "gravity"),
         (lambda: inertia.ConvexHull([[0, 0, 0], [1, 0, 0], [0, 1, 0]]), "point"),
         (lambda: inertia.TriangleMesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 7]]), "ndex"),
+        (lambda: inertia.HeightField([[1, 2], [3]], 1), "heights"),
+        (lambda: inertia.Compound([]), "child"),
+        (lambda: inertia.Compound([(inertia.Sphere(1), (0, 0, 0), (0, 0, 0, 0))]), "quaternion"),
+        (lambda: inertia.Compound([inertia.Sphere(1)]), "children"),
+        (lambda: inertia.SixDofJoint(frame_a=(1, 2)), "frame_a"),
+        (lambda: inertia.SixDofJoint(axes=[1] * 6), "axes"),
+        (lambda: inertia.Emitter(speed=(1,)), "speed"),
+        (lambda: inertia.World().create_particle_system(capacity=2**40), "capacity"),
+        (lambda: inertia.Batch({}, 0), "world"),
     ],
 )
 def test_bad_values_raise_value_errors_naming_them(make, argument):
@@ -129,3 +138,14 @@ def test_particle_system_with_live_views_is_not_destroyed():
         world.particle_positions(ps)
     with pytest.raises(ValueError, match="shape"):
         inertia.Emitter(shape="torus")
+
+
+def test_particle_writes_must_be_finite():
+    world = inertia.World()
+    ps = world.create_particle_system(capacity=10)
+    world.add_emitter(ps, inertia.Emitter(burst=2, lifetime=float("inf")))
+    world.step()
+    with pytest.raises(ValueError, match="finite"):
+        world.set_particle_positions(ps, [[0, 0, 0], [0, np.nan, 0]])
+    with pytest.raises(ValueError, match="finite"):
+        world.set_particle_velocities(ps, [[0, 0, 0], [np.inf, 0, 0]])
