@@ -91,6 +91,10 @@ def test_bad_body_arguments():
         world.add_shape(ball, inertia.Plane())
     with pytest.raises(ValueError, match="dt"):
         world.step(-1)
+    with pytest.raises(ValueError, match="frameTime"):
+        world.advance(float("nan"))
+    with pytest.raises(ValueError, match="maxSteps"):
+        world.advance(0.1, max_steps=0)
     with pytest.raises(ValueError, match="positions"):
         world.set_positions(np.zeros((3, 3)))  # two bodies
     with pytest.raises(ValueError, match="direction"):
