@@ -59,8 +59,10 @@ struct ViewKeeper {
   std::uint32_t slot;
 };
 
-// An (n, cols) array over `data` (n * cols Reals of the system's pool), writable.
-py::array poolView(py::object self, ParticleSystemId id, Real* data, std::size_t n,
+// A read-only (n, cols) array over `data` (n * cols Reals of the system's pool). Read-only
+// because the pool trusts its values: a NaN written into it would reach the collision grid's
+// cell arithmetic (undefined behaviour); writes go through set_particle_*, which checks them.
+py::array poolView(py::object self, ParticleSystemId id, const Real* data, std::size_t n,
                    py::ssize_t cols) {
   PyWorld& w = self.cast<PyWorld&>();
   ++w.particleViews[id.index];
@@ -70,10 +72,14 @@ py::array poolView(py::object self, ParticleSystemId id, Real* data, std::size_t
     if (--world.particleViews[k->slot] == 0) world.particleViews.erase(k->slot);
     delete k;
   });
-  if (cols == 1) return RealArray({py::ssize_t(n)}, {py::ssize_t(sizeof(Real))}, data, keeper);
-  return RealArray({py::ssize_t(n), cols},
-                   {py::ssize_t(cols * py::ssize_t(sizeof(Real))), py::ssize_t(sizeof(Real))}, data,
-                   keeper);
+  RealArray a =
+      cols == 1
+          ? RealArray({py::ssize_t(n)}, {py::ssize_t(sizeof(Real))}, data, keeper)
+          : RealArray({py::ssize_t(n), cols},
+                      {py::ssize_t(cols * py::ssize_t(sizeof(Real))), py::ssize_t(sizeof(Real))},
+                      data, keeper);
+  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return a;
 }
 
 void writeRows(std::span<Real> dst, py::handle value, const char* arg, std::size_t n) {
@@ -302,23 +308,24 @@ void bindParticles(py::module_& m) {
             return poolView(self, id, pool.positions().data(), pool.size(), 3);
           },
           py::arg("system"),
-          "The live particles' positions (m), (n, 3): a view of the pool's memory, not a copy; "
-          "writing into it moves the particles. Valid for the particles live now: take a new "
-          "one after a step (particles are born and die).")
+          "The live particles' positions (m), (n, 3): a read-only view of the pool's memory, "
+          "not a copy (set_particle_positions writes). Valid for the particles live now: take "
+          "a new one after a step (particles are born and die).")
       .def(
           "particle_velocities",
           [](py::object self, ParticleSystemId id) {
             ParticlePool& pool = self.cast<PyWorld&>()->particleSystem(id).pool();
             return poolView(self, id, pool.velocities().data(), pool.size(), 3);
           },
-          py::arg("system"), "The live particles' velocities (m/s), (n, 3): a view, as positions.")
+          py::arg("system"),
+          "The live particles' velocities (m/s), (n, 3): a read-only view, as positions.")
       .def(
           "particle_ages",
           [](py::object self, ParticleSystemId id) {
             ParticlePool& pool = self.cast<PyWorld&>()->particleSystem(id).pool();
             return poolView(self, id, pool.ages().data(), pool.size(), 1);
           },
-          py::arg("system"), "Ages (s), (n,): a view.")
+          py::arg("system"), "Ages (s), (n,): a read-only view.")
       .def(
           "particle_ids",
           [](const PyWorld& w, ParticleSystemId id) {

@@ -45,6 +45,8 @@ def test_body_arrays_round_trip_and_writing_them_moves_the_bodies():
 
 
 def test_particle_arrays_alias_the_pool_and_writes_move_particles():
+    # Views are read-only (the pool trusts its values; writes are checked by set_particle_*),
+    # and they see what those writes do.
     world = inertia.World()
     ps = world.create_particle_system(name="dust", capacity=100)
     world.add_emitter(ps, inertia.Emitter(burst=10, lifetime=float("inf"), speed=0))
@@ -53,10 +55,13 @@ def test_particle_arrays_alias_the_pool_and_writes_move_particles():
     a, b = world.particle_positions(ps), world.particle_positions(ps)
     assert a.shape == (10, 3) and a.dtype == inertia.real_dtype
     assert np.shares_memory(a, b)  # the same memory: no copy
-    a[:] = np.arange(30).reshape(10, 3)
-    np.testing.assert_array_equal(world.particle_positions(ps), np.arange(30).reshape(10, 3))
+    with pytest.raises(ValueError, match="read-only"):
+        a[0] = 1
+    world.set_particle_positions(ps, np.arange(30).reshape(10, 3))
+    np.testing.assert_array_equal(a, np.arange(30).reshape(10, 3))  # the view sees the write
     v = world.particle_velocities(ps)
-    v[:] = (0, 1, 0)  # no fields: they coast at 1 m/s
+    world.set_particle_velocities(ps, np.tile((0, 1, 0), (10, 1)))  # no fields: they coast
+    np.testing.assert_array_equal(v[:, 1], 1)
     world.step()
     np.testing.assert_allclose(a[:, 1], np.arange(30).reshape(10, 3)[:, 1] + 1 / 60, atol=1e-5)
     world.set_particle_velocities(ps, np.zeros((10, 3)))
