@@ -10,6 +10,7 @@
 
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -27,7 +28,10 @@ class Batch {
   // the same number of bodies.
   Batch(std::vector<py::object> worlds, int threads)
       : objects_(std::move(worlds)), arena_(threads > 0 ? threads : tbb::task_arena::automatic) {
-    for (py::object& o : objects_) worlds_.push_back(o.cast<PyWorld&>().world.get());
+    for (py::object& o : objects_) {
+      pyWorlds_.push_back(&o.cast<PyWorld&>());
+      worlds_.push_back(pyWorlds_.back()->world.get());
+    }
     if (worlds_.empty()) argumentError("scene", "a batch needs at least one world");
     bodies_ = worlds_[0]->bodyCount();
     for (std::size_t i = 0; i < worlds_.size(); ++i)
@@ -47,8 +51,16 @@ class Batch {
     return objects_[std::size_t(i)];
   }
 
+  // RuntimeError while another thread steps the batch or one of its worlds.
+  void checkIdle() const {
+    for (const PyWorld* w : pyWorlds_)
+      if (w->stepping) throw std::runtime_error("Batch: another thread is stepping its worlds");
+  }
+
   void step(int steps) {
     if (steps < 0) argumentError("steps", "must be >= 0");
+    checkIdle();
+    SteppingScope stepping(pyWorlds_);
     py::gil_scoped_release release;
     arena_.execute([&] {
       // One world per task: worlds are small, and each costs about the same.
@@ -64,6 +76,7 @@ class Batch {
   // (N, bodies, cols) from each world's bodies in slot order.
   template <class Get>
   RealArray gather(py::ssize_t cols, Get get) const {
+    checkIdle();
     RealArray a({py::ssize_t(size()), py::ssize_t(bodies_), cols});
     Real* out = a.mutable_data();
     for (World* w : worlds_)
@@ -73,6 +86,7 @@ class Batch {
 
   template <class Set>
   void scatter(py::handle value, const char* arg, py::ssize_t cols, Set set) {
+    checkIdle();
     RealArray a = RealArray::ensure(value);
     if (!a || a.ndim() != 3 || a.shape(0) != py::ssize_t(size()) || a.shape(1) != bodies_ ||
         a.shape(2) != cols)
@@ -85,7 +99,8 @@ class Batch {
 
  private:
   std::vector<py::object> objects_;
-  std::vector<World*> worlds_;
+  std::vector<PyWorld*> pyWorlds_;  // of objects_
+  std::vector<World*> worlds_;      // theirs, for the workers (which cannot touch Python)
   tbb::task_arena arena_;
   int bodies_ = 0;
 };

@@ -174,8 +174,9 @@ void bindWorld(py::module_& m) {
 
   py::class_<PyWorld> world(m, "World",
                             "A simulation world: rigid bodies, joints and particle systems stepped "
-                            "with a fixed time step. Deterministic at any thread count. Not "
-                            "thread-safe: use one world from one Python thread at a time.");
+                            "with a fixed time step. Deterministic at any thread count. It "
+                            "steps without the GIL; while it does, its methods called from "
+                            "other threads raise RuntimeError.");
   world.def(
       py::init([](py::handle gravity, Real dt, int substeps, const std::string& solver,
                   int iterations, int relaxIterations, const std::string& integrator, int threads,
@@ -214,16 +215,20 @@ void bindWorld(py::module_& m) {
           "step",
           [](PyWorld& w, std::optional<Real> dt) {
             const Real h = dt.value_or(w->settings().dt);
+            World& world = *w;
+            SteppingScope stepping(w);
             py::gil_scoped_release release;  // the library checks h (InvalidArgument)
-            w->step(h);
+            world.step(h);
           },
           py::arg("dt") = py::none(),
           "Advances by exactly dt seconds (default: the world's dt), in substeps.")
       .def(
           "advance",
           [](PyWorld& w, Real frameTime, int maxSteps) {
+            World& world = *w;
+            SteppingScope stepping(w);
             py::gil_scoped_release release;  // the library checks its arguments
-            return w->advance(frameTime, maxSteps);
+            return world.advance(frameTime, maxSteps);
           },
           py::arg("frame_time"), py::arg("max_steps") = 8,
           "Advances a frame of frame_time seconds in fixed steps of dt with an accumulator; at "

@@ -2,12 +2,13 @@
 interpreter goes on (every test below runs in the same process)."""
 
 import json
+import threading
 
 import numpy as np
 import pytest
 
 import inertia
-from conftest import ball_world
+from conftest import SOURCE_DIR, ball_world
 
 
 def test_scene_errors_carry_file_and_json_pointer(tmp_path):
@@ -142,6 +143,35 @@ def test_particle_system_with_live_views_is_not_destroyed():
         world.particle_positions(ps)
     with pytest.raises(ValueError, match="shape"):
         inertia.Emitter(shape="torus")
+
+
+def polls_refused(target, poll):
+    """Runs target() on a thread and calls poll() here until one is refused or it ends."""
+    thread = threading.Thread(target=target)
+    refused = None
+    thread.start()
+    while thread.is_alive() and refused is None:
+        try:
+            poll()
+        except RuntimeError as e:
+            refused = str(e)
+    thread.join()
+    return refused
+
+
+def test_a_world_being_stepped_refuses_other_threads():
+    # Steps run without the GIL, and this thread polls meanwhile. 60 steps of a pyramid of 55
+    # boxes take a few tenths of a second: a poll meets one of them.
+    scene = str(SOURCE_DIR / "scenes" / "pyramid.json")
+    world = inertia.load_scene(scene)
+    refused = polls_refused(lambda: world.advance(1.1, max_steps=60), world.positions)
+    assert "another thread is stepping" in refused
+    assert world.step_count == 60 and world.positions().shape[1] == 3  # usable again
+    batch = inertia.Batch(scene, 2)
+    refused = polls_refused(lambda: batch[1].advance(1.1, max_steps=60), batch.positions)
+    assert "another thread is stepping" in refused
+    refused = polls_refused(lambda: batch.step(60), lambda: batch[0].time)
+    assert "another thread is stepping" in refused
 
 
 def test_particle_writes_must_be_finite():
