@@ -1,0 +1,495 @@
+"""Type stubs of the inertia extension (python/src/*.cpp). Units are SI; quaternions are
+[w, x, y, z]; arrays have dtype real_dtype (float32, or float64 in a double build).
+python/tests/test_stubs.py checks that these name exactly what the module has."""
+
+from typing import Any, Iterable, Optional, Sequence, Union, overload
+
+import numpy as np
+import numpy.typing as npt
+
+Vec3Like = Union[Sequence[float], npt.ArrayLike]
+QuatLike = Union[Sequence[float], npt.ArrayLike]
+Array = npt.NDArray[Any]
+
+real_dtype: np.dtype[Any]
+
+class InvalidArgument(ValueError):
+    """An invalid argument (negative size, NaN, invalid id, ...)."""
+
+class SceneError(ValueError):
+    """A problem with a scene: str() reads 'FILE: POINTER: REASON'."""
+    file: str
+    pointer: str
+    """The JSON pointer of the offending value, e.g. '/world/dt'; empty for syntax errors."""
+    reason: str
+
+class BodyId:
+    index: int
+    generation: int
+    def __init__(self) -> None: ...
+    def is_null(self) -> bool: ...
+
+class ShapeId:
+    index: int
+    generation: int
+    def __init__(self) -> None: ...
+    def is_null(self) -> bool: ...
+
+class JointId:
+    index: int
+    generation: int
+    def __init__(self) -> None: ...
+    def is_null(self) -> bool: ...
+
+class ParticleSystemId:
+    index: int
+    generation: int
+    def __init__(self) -> None: ...
+    def is_null(self) -> bool: ...
+
+class BodyType:
+    STATIC: BodyType
+    KINEMATIC: BodyType
+    DYNAMIC: BodyType
+    name: str
+    value: int
+
+# Shapes and materials.
+
+class Material:
+    density: float
+    """kg/m^3"""
+    friction: float
+    dynamic_friction: float
+    restitution: float
+    rolling_friction: float
+    """m"""
+    spinning_friction: float
+    """m"""
+    def __init__(self, *, density: float = 1000, friction: float = 0.6,
+                 dynamic_friction: float = -1, restitution: float = 0,
+                 rolling_friction: float = 0, spinning_friction: float = 0) -> None: ...
+
+class Sphere:
+    radius: float
+    def __init__(self, radius: float = 0.5) -> None: ...
+
+class Capsule:
+    radius: float
+    half_height: float
+    def __init__(self, radius: float = 0.5, half_height: float = 0.5) -> None: ...
+
+class Cylinder:
+    radius: float
+    half_height: float
+    def __init__(self, radius: float = 0.5, half_height: float = 0.5) -> None: ...
+
+class Box:
+    half_extents: Array
+    def __init__(self, half_extents: Vec3Like) -> None: ...
+
+class Plane:
+    normal: Array
+    offset: float
+    def __init__(self, normal: Vec3Like = (0, 1, 0), offset: float = 0) -> None: ...
+
+class ConvexHull:
+    vertices: Array
+    def __init__(self, points: npt.ArrayLike) -> None: ...
+
+class TriangleMesh:
+    is_closed: bool
+    def __init__(self, vertices: npt.ArrayLike, triangles: Sequence[Sequence[int]]) -> None: ...
+
+class HeightField:
+    def __init__(self, heights: npt.ArrayLike, spacing: float) -> None: ...
+
+Shape = Union[Sphere, Capsule, Cylinder, Box, Plane, ConvexHull, TriangleMesh, HeightField,
+              "Compound"]
+
+class Compound:
+    def __init__(self, children: list[tuple[Any, ...]]) -> None: ...
+
+# Results of a step.
+
+class WorldState:
+    time: float
+    step_count: int
+
+class Contact:
+    body_a: BodyId
+    body_b: BodyId
+    shape_a: ShapeId
+    shape_b: ShapeId
+    normal: Array
+    points_a: Array
+    points_b: Array
+    separations: Array
+    normal_impulses: Array
+
+class ContactEvent:
+    body_a: BodyId
+    body_b: BodyId
+    shape_a: ShapeId
+    shape_b: ShapeId
+    point: Array
+    normal: Array
+    approach_speed: float
+
+class RayHit:
+    body: BodyId
+    shape: ShapeId
+    distance: float
+    point: Array
+    normal: Array
+
+class JointEvent:
+    joint: JointId
+    force: Array
+    torque: Array
+
+# Joints.
+
+class JointLimits:
+    lower: float
+    upper: float
+    def __init__(self, lower: float, upper: float) -> None: ...
+
+class JointMotor:
+    speed: float
+    max_force: float
+    target: Optional[float]
+    servo_frequency: float
+    def __init__(self, *, speed: float = 0, max_force: float = 0,
+                 target: Optional[float] = None, servo_frequency: float = 2) -> None: ...
+
+class JointSpring:
+    frequency: float
+    damping_ratio: float
+    rest: float
+    def __init__(self, *, frequency: float = 1, damping_ratio: float = 0,
+                 rest: float = 0) -> None: ...
+
+LimitsLike = Union[JointLimits, Sequence[float], None]
+
+class JointAxis:
+    locked: bool
+    limits: Optional[JointLimits]
+    motor: Optional[JointMotor]
+    spring: Optional[JointSpring]
+    friction: float
+    def __init__(self, **kwargs: Any) -> None: ...
+
+class BallJoint:
+    body_a: Optional[BodyId]
+    body_b: Optional[BodyId]
+    anchor_a: Array
+    anchor_b: Array
+    axis_a: Array
+    axis_b: Array
+    cone_limit: Optional[float]
+    twist_limits: Optional[JointLimits]
+    friction: float
+    break_force: float
+    break_torque: float
+    collide_connected: bool
+    name: str
+    def __init__(self, **kwargs: Any) -> None: ...
+
+class HingeJoint:
+    body_a: Optional[BodyId]
+    body_b: Optional[BodyId]
+    anchor_a: Array
+    anchor_b: Array
+    axis_a: Array
+    axis_b: Array
+    limits: Optional[JointLimits]
+    motor: Optional[JointMotor]
+    spring: Optional[JointSpring]
+    friction: float
+    break_force: float
+    break_torque: float
+    collide_connected: bool
+    name: str
+    def __init__(self, **kwargs: Any) -> None: ...
+
+class SliderJoint:
+    body_a: Optional[BodyId]
+    body_b: Optional[BodyId]
+    anchor_a: Array
+    anchor_b: Array
+    axis_a: Array
+    limits: Optional[JointLimits]
+    motor: Optional[JointMotor]
+    spring: Optional[JointSpring]
+    friction: float
+    break_force: float
+    break_torque: float
+    collide_connected: bool
+    name: str
+    def __init__(self, **kwargs: Any) -> None: ...
+
+class UniversalJoint:
+    body_a: Optional[BodyId]
+    body_b: Optional[BodyId]
+    anchor_a: Array
+    anchor_b: Array
+    axis_a: Array
+    axis_b: Array
+    limits_a: Optional[JointLimits]
+    limits_b: Optional[JointLimits]
+    break_force: float
+    break_torque: float
+    collide_connected: bool
+    name: str
+    def __init__(self, **kwargs: Any) -> None: ...
+
+class WeldJoint:
+    body_a: Optional[BodyId]
+    body_b: Optional[BodyId]
+    anchor_a: Array
+    anchor_b: Array
+    spring: Optional[JointSpring]
+    break_force: float
+    break_torque: float
+    collide_connected: bool
+    name: str
+    def __init__(self, **kwargs: Any) -> None: ...
+
+class DistanceJoint:
+    body_a: Optional[BodyId]
+    body_b: Optional[BodyId]
+    anchor_a: Array
+    anchor_b: Array
+    length: float
+    min_length: float
+    max_length: float
+    spring: Optional[JointSpring]
+    break_force: float
+    break_torque: float
+    collide_connected: bool
+    name: str
+    def __init__(self, **kwargs: Any) -> None: ...
+
+class SixDofJoint:
+    body_a: Optional[BodyId]
+    body_b: Optional[BodyId]
+    frame_a: tuple[Array, Array]
+    frame_b: tuple[Array, Array]
+    axes: list[JointAxis]
+    break_force: float
+    break_torque: float
+    collide_connected: bool
+    name: str
+    def __init__(self, **kwargs: Any) -> None: ...
+
+JointSettings = Union[BallJoint, HingeJoint, SliderJoint, UniversalJoint, WeldJoint,
+                      DistanceJoint, SixDofJoint]
+
+# Particles.
+
+class Emitter:
+    shape: str
+    position: Array
+    orientation: Array
+    radius: float
+    half_extents: Array
+    angle: float
+    mesh: None
+    rate: float
+    burst: int
+    direction: Array
+    spread: float
+    speed: tuple[float, float]
+    lifetime: tuple[float, float]
+    mass: tuple[float, float]
+    size: tuple[float, float]
+    color_min: Array
+    color_max: Array
+    seed: int
+    attach_to: Optional[BodyId]
+    def __init__(self, **kwargs: Any) -> None: ...
+
+class GravityField:
+    def __init__(self, g: Vec3Like = (0, -9.81, 0)) -> None: ...
+
+class LinearDragField:
+    def __init__(self, k: float = 0.1) -> None: ...
+
+class QuadraticDragField:
+    def __init__(self, k: float = 0.01) -> None: ...
+
+class WindField:
+    def __init__(self, velocity: Vec3Like = (1, 0, 0), k: float = 0.1) -> None: ...
+
+class VortexField:
+    def __init__(self, *, center: Vec3Like = (0, 0, 0), axis: Vec3Like = (0, 1, 0),
+                 angular_speed: float = 1, core_radius: float = 1,
+                 tightness: float = 5) -> None: ...
+
+class AttractorField:
+    def __init__(self, *, position: Vec3Like = (0, 0, 0), strength: float = 1,
+                 falloff: str = "inverse_square", cutoff: float = ...,
+                 min_distance: float = 0.05) -> None: ...
+
+class TurbulenceField:
+    def __init__(self, *, amplitude: float = 1, scale: float = 1, speed: float = 0,
+                 modes: int = 8, seed: int = 1) -> None: ...
+
+Field = Union[GravityField, LinearDragField, QuadraticDragField, WindField, VortexField,
+              AttractorField, TurbulenceField]
+
+# The world.
+
+class World:
+    gravity: Array
+    dt: float
+    substeps: int
+    threads: int
+    time: float
+    step_count: int
+    interpolation_alpha: float
+    body_count: int
+    contact_count: int
+    joint_count: int
+    def __init__(self, *, gravity: Vec3Like = (0, -9.81, 0), dt: float = 1 / 60,
+                 substeps: int = 4, solver: str = "soft_step", iterations: int = 4,
+                 relax_iterations: int = 1, integrator: str = "symplectic_euler",
+                 threads: int = 0, sleeping: bool = True) -> None: ...
+    def step(self, dt: Optional[float] = None) -> None: ...
+    def advance(self, frame_time: float, max_steps: int = 8) -> int: ...
+    # Bodies.
+    def create_body(self, *, type: Union[str, BodyType] = "dynamic",
+                    position: Vec3Like = (0, 0, 0), orientation: QuatLike = (1, 0, 0, 0),
+                    velocity: Vec3Like = (0, 0, 0), angular_velocity: Vec3Like = (0, 0, 0),
+                    linear_damping: float = 0, angular_damping: float = 0,
+                    gravity_scale: float = 1, mass: float = 0, inertia: Vec3Like = (0, 0, 0),
+                    allow_sleep: bool = True, bullet: bool = False, name: str = "") -> BodyId: ...
+    def destroy_body(self, body: BodyId) -> None: ...
+    def add_shape(self, body: BodyId, shape: Shape, material: Material = ..., *,
+                  position: Optional[Vec3Like] = None,
+                  orientation: Optional[QuatLike] = None) -> ShapeId: ...
+    def remove_shape(self, shape: ShapeId) -> None: ...
+    @overload
+    def is_valid(self, id: BodyId) -> bool: ...
+    @overload
+    def is_valid(self, id: JointId) -> bool: ...
+    @overload
+    def is_valid(self, id: ParticleSystemId) -> bool: ...
+    def bodies(self) -> list[BodyId]: ...
+    def shapes(self, body: BodyId) -> list[ShapeId]: ...
+    def shape_body(self, shape: ShapeId) -> BodyId: ...
+    def find_body(self, name: str) -> BodyId: ...
+    def body_name(self, body: BodyId) -> str: ...
+    def body_type(self, body: BodyId) -> BodyType: ...
+    def is_awake(self, body: BodyId) -> bool: ...
+    def position(self, body: BodyId) -> Array: ...
+    def orientation(self, body: BodyId) -> Array: ...
+    def linear_velocity(self, body: BodyId) -> Array: ...
+    def angular_velocity(self, body: BodyId) -> Array: ...
+    def center_of_mass(self, body: BodyId) -> Array: ...
+    def mass(self, body: BodyId) -> float: ...
+    def inertia(self, body: BodyId) -> Array: ...
+    def set_position(self, body: BodyId, position: Vec3Like) -> None: ...
+    def set_orientation(self, body: BodyId, orientation: QuatLike) -> None: ...
+    def set_linear_velocity(self, body: BodyId, velocity: Vec3Like) -> None: ...
+    def set_angular_velocity(self, body: BodyId, angular_velocity: Vec3Like) -> None: ...
+    def move_kinematic(self, body: BodyId, position: Vec3Like, orientation: QuatLike,
+                       dt: float) -> None: ...
+    def apply_force(self, body: BodyId, force: Vec3Like,
+                    point: Optional[Vec3Like] = None) -> None: ...
+    def apply_torque(self, body: BodyId, torque: Vec3Like) -> None: ...
+    def apply_impulse(self, body: BodyId, impulse: Vec3Like,
+                      point: Optional[Vec3Like] = None) -> None: ...
+    def apply_angular_impulse(self, body: BodyId, impulse: Vec3Like) -> None: ...
+    def wake(self, body: BodyId) -> None: ...
+    # Every body's state, in bodies() order.
+    def positions(self) -> Array: ...
+    def orientations(self) -> Array: ...
+    def linear_velocities(self) -> Array: ...
+    def angular_velocities(self) -> Array: ...
+    def set_positions(self, positions: npt.ArrayLike) -> None: ...
+    def set_orientations(self, orientations: npt.ArrayLike) -> None: ...
+    def set_linear_velocities(self, velocities: npt.ArrayLike) -> None: ...
+    def set_angular_velocities(self, angular_velocities: npt.ArrayLike) -> None: ...
+    def kinetic_energy(self) -> float: ...
+    def linear_momentum(self) -> Array: ...
+    def angular_momentum(self, about: Vec3Like = (0, 0, 0)) -> Array: ...
+    # Contacts, queries, snapshots.
+    def contacts(self) -> list[Contact]: ...
+    def contact_begin_events(self) -> list[ContactEvent]: ...
+    def contact_end_events(self) -> list[ContactEvent]: ...
+    def cast_ray(self, origin: Vec3Like, direction: Vec3Like,
+                 max_distance: float = 1e4) -> Optional[RayHit]: ...
+    def save_state(self) -> WorldState: ...
+    def restore_state(self, state: WorldState) -> None: ...
+    # Joints.
+    def create_joint(self, settings: JointSettings) -> JointId: ...
+    def destroy_joint(self, joint: JointId) -> None: ...
+    def joints(self) -> list[JointId]: ...
+    def joint_type(self, joint: JointId) -> str: ...
+    def joint_name(self, joint: JointId) -> str: ...
+    def joint_bodies(self, joint: JointId) -> tuple[Optional[BodyId], BodyId]: ...
+    def set_joint_enabled(self, joint: JointId, enabled: bool) -> None: ...
+    def is_joint_enabled(self, joint: JointId) -> bool: ...
+    def is_joint_broken(self, joint: JointId) -> bool: ...
+    def set_joint_motor(self, joint: JointId, motor: Optional[JointMotor]) -> None: ...
+    def set_joint_limits(self, joint: JointId, limits: LimitsLike) -> None: ...
+    def set_joint_spring(self, joint: JointId, spring: Optional[JointSpring]) -> None: ...
+    def set_joint_axis(self, joint: JointId, axis: int, settings: JointAxis) -> None: ...
+    def joint_force(self, joint: JointId) -> Array: ...
+    def joint_torque(self, joint: JointId) -> Array: ...
+    def joint_coordinate(self, joint: JointId) -> float: ...
+    def joint_axis_coordinate(self, joint: JointId, axis: int) -> float: ...
+    def joint_error(self, joint: JointId) -> tuple[float, float]: ...
+    def joint_anchors(self, joint: JointId) -> tuple[Array, Array]: ...
+    def joint_events(self) -> list[JointEvent]: ...
+    # Particle systems.
+    def create_particle_system(self, *, name: str = "", capacity: int = 10000,
+                               integrator: str = "symplectic_euler", restitution: float = 0.5,
+                               friction: float = 0.1, restitution_threshold: float = 0.05,
+                               particle_collisions: bool = False,
+                               collide_with_bodies: bool = False) -> ParticleSystemId: ...
+    def destroy_particle_system(self, system: ParticleSystemId) -> None: ...
+    def particle_systems(self) -> list[ParticleSystemId]: ...
+    def particle_system_name(self, system: ParticleSystemId) -> str: ...
+    def add_emitter(self, system: ParticleSystemId, emitter: Emitter) -> int: ...
+    def add_field(self, system: ParticleSystemId, field: Field,
+                  region: Optional[tuple[Vec3Like, Vec3Like]] = None) -> int: ...
+    def add_obstacle(self, system: ParticleSystemId, shape: Shape, *,
+                     position: Optional[Vec3Like] = None,
+                     orientation: Optional[QuatLike] = None) -> int: ...
+    def particle_count(self, system: ParticleSystemId) -> int: ...
+    def particle_stats(self, system: ParticleSystemId) -> dict[str, int]: ...
+    def particle_positions(self, system: ParticleSystemId) -> Array: ...
+    def particle_velocities(self, system: ParticleSystemId) -> Array: ...
+    def particle_ages(self, system: ParticleSystemId) -> Array: ...
+    def particle_ids(self, system: ParticleSystemId) -> Array: ...
+    def set_particle_positions(self, system: ParticleSystemId,
+                               positions: npt.ArrayLike) -> None: ...
+    def set_particle_velocities(self, system: ParticleSystemId,
+                                velocities: npt.ArrayLike) -> None: ...
+
+def load_scene(path: str, *, dt: Optional[float] = None,
+               threads: Optional[int] = None) -> World: ...
+def parse_scene(scene: Union[str, dict[str, Any]], name: str = "<scene>", *,
+                dt: Optional[float] = None, threads: Optional[int] = None) -> World: ...
+
+class Batch:
+    """N independent worlds stepped together across the cores with one call; each gives the
+    bits it gives when stepped alone. State as (N, bodies, ...) arrays."""
+    body_count: int
+    def __init__(self, scene: Union[str, dict[str, Any], Sequence[Union[str, dict[str, Any]]]],
+                 n: Optional[int] = None, *, gravity: Optional[npt.ArrayLike] = None,
+                 threads: int = 0) -> None: ...
+    def __len__(self) -> int: ...
+    def __getitem__(self, i: int) -> World: ...
+    def step(self, steps: int = 1) -> None: ...
+    def positions(self) -> Array: ...
+    def orientations(self) -> Array: ...
+    def linear_velocities(self) -> Array: ...
+    def angular_velocities(self) -> Array: ...
+    def set_positions(self, positions: npt.ArrayLike) -> None: ...
+    def set_orientations(self, orientations: npt.ArrayLike) -> None: ...
+    def set_linear_velocities(self, velocities: npt.ArrayLike) -> None: ...
+    def set_angular_velocities(self, angular_velocities: npt.ArrayLike) -> None: ...

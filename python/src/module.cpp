@@ -1,0 +1,78 @@
+// The `inertia` extension module: its exceptions, and the areas bound in their own files.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <string>
+
+#include "bindings.h"
+#include "inertia/core/error.h"
+#include "inertia/core/id.h"
+#include "inertia/io/scene.h"
+
+namespace inertia::python {
+
+namespace {
+
+template <class Tag>
+void bindId(py::module_& m, const char* name, const char* doc) {
+  using IdT = Id<Tag>;
+  py::class_<IdT>(m, name, doc)
+      .def(py::init<>(), "The null handle.")
+      .def_readonly("index", &IdT::index, "Slot index.")
+      .def_readonly("generation", &IdT::generation, "Slot generation (0: null).")
+      .def("is_null", &IdT::isNull)
+      .def("__eq__", [](const IdT& a, const IdT& b) { return a == b; })
+      .def("__hash__", [](const IdT& a) { return py::hash(py::make_tuple(a.index, a.generation)); })
+      .def("__repr__",
+           [name](const IdT& a) {
+             return std::string(name) + "(" + std::to_string(a.index) + ", " +
+                    std::to_string(a.generation) + ")";
+           })
+      .def(py::pickle([](const IdT& a) { return py::make_tuple(a.index, a.generation); },
+                      [](const py::tuple& t) {
+                        if (t.size() != 2) throw py::value_error("bad pickled handle");
+                        return IdT{t[0].cast<std::uint32_t>(), t[1].cast<std::uint32_t>()};
+                      }));
+}
+
+}  // namespace
+
+void bindIds(py::module_& m) {
+  bindId<BodyTag>(m, "BodyId", "A rigid body of a World (a small value: index and generation).");
+  bindId<ShapeTag>(m, "ShapeId", "A shape attached to a body.");
+  bindId<JointTag>(m, "JointId", "A joint between two bodies, or a body and the world.");
+  bindId<ParticleSystemTag>(m, "ParticleSystemId", "A particle system of a World.");
+}
+
+}  // namespace inertia::python
+
+PYBIND11_MODULE(_inertia, m) {
+  namespace py = pybind11;
+  using namespace inertia;
+  m.doc() = "Inertia, a real-time physics engine: the C++ library's API in Python's conventions.";
+
+  // InvalidArgument and SceneError are ValueErrors; SceneError carries the file, the JSON
+  // pointer and the reason as attributes. The types live as long as the interpreter.
+  py::register_exception<InvalidArgument>(m, "InvalidArgument", PyExc_ValueError);
+  static PyObject* sceneError =
+      py::exception<io::SceneError>(m, "SceneError", PyExc_ValueError).release().ptr();
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const io::SceneError& e) {
+      py::object error = py::reinterpret_borrow<py::object>(sceneError)(e.what());
+      error.attr("file") = e.file();
+      error.attr("pointer") = e.pointer();
+      error.attr("reason") = e.reason();
+      PyErr_SetObject(sceneError, error.ptr());
+    }
+  });
+
+  m.attr("real_dtype") = py::dtype::of<Real>();
+  python::bindIds(m);
+  python::bindShapes(m);
+  python::bindWorld(m);
+  python::bindJoints(m);
+  python::bindParticles(m);
+  python::bindBatch(m);
+}

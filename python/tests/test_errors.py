@@ -1,0 +1,185 @@
+"""Bad input raises a Python exception naming the JSON pointer or the argument, and the
+interpreter goes on (every test below runs in the same process)."""
+
+import json
+import threading
+
+import numpy as np
+import pytest
+
+import inertia
+from conftest import SOURCE_DIR, ball_world
+
+
+def test_scene_errors_carry_file_and_json_pointer(tmp_path):
+    path = tmp_path / "typo.json"
+    path.write_text(json.dumps({"world": {"gravty": [0, -9.81, 0]}}))
+    with pytest.raises(inertia.SceneError) as e:
+        inertia.load_scene(str(path))
+    assert e.value.pointer == "/world/gravty"
+    assert e.value.file == str(path)
+    assert "gravty" in str(e.value) and isinstance(e.value, ValueError)
+
+    with pytest.raises(inertia.SceneError) as e:
+        inertia.load_scene(str(tmp_path / "missing.json"))
+    assert e.value.reason == "no such file" and e.value.pointer == ""
+
+
+def test_parse_scene_reports_pointers_into_dicts():
+    scene = {
+        "bodies": [
+            {"name": "a", "shapes": [{"type": "sphere", "radius": 0.5}]},
+            {"name": "b", "shapes": [{"type": "sphere", "radius": -1}]},
+        ]
+    }
+    with pytest.raises(inertia.SceneError) as e:
+        inertia.parse_scene(scene)
+    assert e.value.pointer.startswith("/bodies/1/shapes/0")
+    scene["bodies"][1]["shapes"][0]["radius"] = 0.5
+    scene["joints"] = [{"type": "hinge", "body_a": "a", "body_b": "nobody"}]
+    with pytest.raises(inertia.SceneError) as e:
+        inertia.parse_scene(scene)
+    assert e.value.pointer.startswith("/joints/0")
+    with pytest.raises(inertia.SceneError) as e:
+        inertia.parse_scene("{ not json", name="inline.json")
+    assert e.value.file == "inline.json:1:4"  # syntax errors name the line and column
+
+
+@pytest.mark.parametrize(
+    "make, argument",
+    [
+        (lambda: inertia.Sphere(-1), "radius"),
+        (lambda: inertia.Sphere(float("nan")), "radius"),
+        (lambda: inertia.Box((1, 1)), "half_extents"),
+        (lambda: inertia.Box(None), "half_extents"),
+        (lambda: inertia.Box("big"), "half_extents"),
+        (lambda: inertia.Material(density=-5), "density"),
+        (lambda: inertia.World(dt=0), "dt"),
+        (lambda: inertia.World(substeps=1000), "substeps"),
+        (lambda: inertia.World(solver="magic"), "solver"),
+        (lambda: inertia.World(gravity=(0, 1)), "gravity"),
+        (lambda: inertia.ConvexHull([[0, 0, 0], [1, 0, 0], [0, 1, 0]]), "point"),
+        (lambda: inertia.TriangleMesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 7]]), "ndex"),
+        (lambda: inertia.HeightField([[1, 2], [3]], 1), "heights"),
+        (lambda: inertia.Compound([]), "child"),
+        (lambda: inertia.Compound([(inertia.Sphere(1), (0, 0, 0), (0, 0, 0, 0))]), "quaternion"),
+        (lambda: inertia.Compound([inertia.Sphere(1)]), "children"),
+        (lambda: inertia.SixDofJoint(frame_a=(1, 2)), "frame_a"),
+        (lambda: inertia.SixDofJoint(axes=[1] * 6), "axes"),
+        (lambda: inertia.Emitter(speed=(1,)), "speed"),
+        (lambda: inertia.World().create_particle_system(capacity=2**40), "capacity"),
+        (lambda: inertia.Batch({}, 0), "world"),
+    ],
+)
+def test_bad_values_raise_value_errors_naming_them(make, argument):
+    with pytest.raises(ValueError, match=argument):
+        make()
+
+
+def test_bad_body_arguments():
+    world, ground, ball = ball_world()
+    with pytest.raises(ValueError, match="position"):
+        world.create_body(position=(1, 2))
+    with pytest.raises(ValueError, match="type"):
+        world.create_body(type="floating")
+    with pytest.raises(ValueError, match="finite"):
+        world.set_position(ball, (0, float("nan"), 0))
+    with pytest.raises(ValueError, match="finite"):
+        world.set_linear_velocity(ball, (np.inf, 0, 0))
+    with pytest.raises(ValueError, match="shape"):
+        world.add_shape(ball, "sphere")
+    with pytest.raises(ValueError, match="[Pp]lane"):  # planes go on static bodies only
+        world.add_shape(ball, inertia.Plane())
+    with pytest.raises(ValueError, match="dt"):
+        world.step(-1)
+    with pytest.raises(ValueError, match="frameTime"):
+        world.advance(float("nan"))
+    with pytest.raises(ValueError, match="maxSteps"):
+        world.advance(0.1, max_steps=0)
+    with pytest.raises(ValueError, match="positions"):
+        world.set_positions(np.zeros((3, 3)))  # two bodies
+    with pytest.raises(ValueError, match="direction"):
+        world.cast_ray((0, 0, 0), (0, 0, 0))
+    with pytest.raises(KeyError):
+        world.find_body("nobody")
+    world.destroy_body(ball)
+    with pytest.raises(ValueError, match="invalid body id"):
+        world.position(ball)
+    with pytest.raises(TypeError):
+        world.position(None)
+    assert not world.is_valid(ball) and world.is_valid(ground)
+
+
+def test_bad_joint_arguments():
+    world, ground, ball = ball_world()
+    with pytest.raises(TypeError, match="anchr_a"):
+        inertia.HingeJoint(body_b=ball, anchr_a=(0, 1, 0))
+    with pytest.raises(ValueError, match="limits"):
+        inertia.HingeJoint(body_b=ball, limits=(1, 2, 3))
+    with pytest.raises(ValueError, match="body_b"):
+        inertia.HingeJoint(body_b="ball")
+    with pytest.raises(ValueError, match="motor"):
+        inertia.HingeJoint(body_b=ball, motor=(1, 2))
+    with pytest.raises(ValueError):  # a body joined to itself
+        world.create_joint(inertia.BallJoint(body_a=ball, body_b=ball))
+    with pytest.raises(ValueError):  # lower limit above the upper
+        world.create_joint(inertia.HingeJoint(body_b=ball, limits=(1, -1)))
+    with pytest.raises(ValueError, match="axis"):
+        world.create_joint(inertia.SliderJoint(body_b=ball, axis_a=(0, 0, 0)))
+
+
+def test_particle_system_with_live_views_is_not_destroyed():
+    world = inertia.World()
+    ps = world.create_particle_system(capacity=10)
+    world.add_emitter(ps, inertia.Emitter(burst=5, lifetime=float("inf")))
+    world.step()
+    view = world.particle_positions(ps)
+    with pytest.raises(ValueError, match="view"):
+        world.destroy_particle_system(ps)
+    del view
+    world.destroy_particle_system(ps)
+    assert not world.is_valid(ps)
+    with pytest.raises(ValueError):
+        world.particle_positions(ps)
+    with pytest.raises(ValueError, match="shape"):
+        inertia.Emitter(shape="torus")
+
+
+def polls_refused(target, poll):
+    """Runs target() on a thread and calls poll() here until one is refused or it ends."""
+    thread = threading.Thread(target=target)
+    refused = None
+    thread.start()
+    while thread.is_alive() and refused is None:
+        try:
+            poll()
+        except RuntimeError as e:
+            refused = str(e)
+    thread.join()
+    return refused
+
+
+def test_a_world_being_stepped_refuses_other_threads():
+    # Steps run without the GIL, and this thread polls meanwhile. 60 steps of a pyramid of 55
+    # boxes take a few tenths of a second: a poll meets one of them.
+    scene = str(SOURCE_DIR / "scenes" / "pyramid.json")
+    world = inertia.load_scene(scene)
+    refused = polls_refused(lambda: world.advance(1.1, max_steps=60), world.positions)
+    assert "another thread is stepping" in refused
+    assert world.step_count == 60 and world.positions().shape[1] == 3  # usable again
+    batch = inertia.Batch(scene, 2)
+    refused = polls_refused(lambda: batch[1].advance(1.1, max_steps=60), batch.positions)
+    assert "another thread is stepping" in refused
+    refused = polls_refused(lambda: batch.step(60), lambda: batch[0].time)
+    assert "another thread is stepping" in refused
+
+
+def test_particle_writes_must_be_finite():
+    world = inertia.World()
+    ps = world.create_particle_system(capacity=10)
+    world.add_emitter(ps, inertia.Emitter(burst=2, lifetime=float("inf")))
+    world.step()
+    with pytest.raises(ValueError, match="finite"):
+        world.set_particle_positions(ps, [[0, 0, 0], [0, np.nan, 0]])
+    with pytest.raises(ValueError, match="finite"):
+        world.set_particle_velocities(ps, [[0, 0, 0], [np.inf, 0, 0]])
