@@ -6,6 +6,8 @@
 #include <optional>
 #include <utility>
 
+#include "lcp_contact.h"
+
 namespace inertia::detail {
 
 namespace {
@@ -420,6 +422,147 @@ void solveJoint(const RigidBodyData& D, JointConstraint& c, std::vector<SolverBo
     else
       solveRows(c, D.joints[c.joint], *c.parts, a, b, pass);
   });
+}
+
+namespace {
+
+// A joint's rows for the LCP solvers (lcp_contact.h), in the order and with the right-hand
+// sides of solveRows: each a row of the LCP with its kind, bias, compliance and bound.
+class LcpRowWriter {
+ public:
+  LcpRowWriter(const JointConstraint& c, const std::vector<SolverBody>& bodies,
+               const JointPass& pass, std::vector<LcpRow>& rows, int& groups)
+      : c_(c), bodies_(bodies), pass_(pass), rows_(rows), groups_(groups) {}
+
+  // A row towards C = 0 with `soft`'s coefficients, free (a locked row or a spring), or boxed
+  // in [-bound, bound] (a servo).
+  void soft(const JointRow& row, Real C, const Softness& soft, Real* store,
+            Real bound = kInfinity) {
+    LcpRow& r = add(row, 1, std::isinf(bound) ? LcpRowKind::Bilateral : LcpRowKind::Boxed, store);
+    r.rhs += double(soft.biasRate * C);
+    r.cfm = compliance(r, soft);
+    r.bound = double(bound);
+  }
+  // A bounded velocity row driving J v to `speed` (a motor, or friction at speed 0).
+  void motor(const JointRow& row, Real speed, Real bound, Real* store) {
+    LcpRow& r = add(row, 1, LcpRowKind::Boxed, store);
+    r.rhs -= double(speed);
+    r.bound = double(bound);
+  }
+  // A one-sided row keeping C >= 0, speculative while C > 0, as AxisRows::solveLimit.
+  void limit(const JointRow& row, Real C, Real sign, Real* store) {
+    LcpRow& r = add(row, sign, LcpRowKind::Limit, store);
+    r.rhs += double(C > 0 ? C * pass_.invH : pass_.rigid.biasRate * C);
+    r.cfm = C > 0 ? 0 : compliance(r, pass_.rigid);
+  }
+  // A free coordinate's spring, motor, friction and limits (driveAxis).
+  void axis(AxisRows& ax, const JointAxis& axis, Real coordinate) {
+    if (axis.spring)
+      soft(ax.row, coordinate - axis.spring->rest,
+           makeSoft(axis.spring->frequency, axis.spring->dampingRatio, pass_.h), &ax.spring);
+    if (axis.motor && axis.motor->maxForce > 0) {
+      const JointMotor& m = *axis.motor;
+      if (!m.target)
+        motor(ax.row, m.speed, m.maxForce * pass_.h, &ax.motor);
+      else
+        soft(ax.row, coordinate - *m.target, makeSoft(m.servoFrequency, 1, pass_.h), &ax.motor,
+             m.maxForce * pass_.h);
+    }
+    if (axis.friction > 0) motor(ax.row, 0, axis.friction * pass_.h, &ax.friction);
+    if (axis.limits) {
+      limit(ax.row, coordinate - axis.limits->lower, 1, &ax.lower);
+      limit(ax.row, axis.limits->upper - coordinate, -1, &ax.upper);
+    }
+  }
+
+ private:
+  LcpRow& add(const JointRow& row, Real sign, LcpRowKind kind, Real* store) {
+    LcpRow& r = rows_.emplace_back();
+    r.a = c_.bodyA;
+    r.b = c_.bodyB;
+    r.linA = -double(sign) * row.linear.cast<double>();
+    r.angA = -double(sign) * row.ja.cast<double>();
+    r.linB = double(sign) * row.linear.cast<double>();
+    r.angB = double(sign) * row.jb.cast<double>();
+    r.rhs = lcpRowVelocity(r, bodies_);
+    r.kind = kind;
+    r.constraint = -1;
+    r.store = store;
+    if (kind == LcpRowKind::Boxed) r.group = groups_++;  // Lemke: its own slack
+    return r;
+  }
+  // A soft row's fixed point J v+ + bias + (impulseScale / massScale) K z = 0 (solveSoft's
+  // iteration converged) as a compliance on the diagonal.
+  double compliance(const LcpRow& r, const Softness& soft) const {
+    if (soft.impulseScale == 0) return 0;
+    return double(soft.impulseScale / soft.massScale) * lcpDelassus(r, r, bodies_);
+  }
+
+  const JointConstraint& c_;
+  const std::vector<SolverBody>& bodies_;
+  const JointPass& pass_;
+  std::vector<LcpRow>& rows_;
+  int& groups_;
+};
+
+// The locked rows of the block (a point constraint's along the world axes).
+JointRow lockRow(const RowBlock& lock, int i) {
+  if (!lock.point) return lock.rows[std::size_t(i)];
+  return linearRow(Vec3::Unit(i), lock.armA, lock.armB);
+}
+
+}  // namespace
+
+void appendJointLcpRows(const RigidBodyData& D, JointConstraint& c,
+                        const std::vector<SolverBody>& bodies, const JointPass& pass,
+                        std::vector<LcpRow>& rows, int& groups) {
+  const JointRecord& j = D.joints[c.joint];
+  const SolverBody none{};
+  const SolverBody& a = c.bodyA >= 0 ? bodies[std::size_t(c.bodyA)] : none;
+  const SolverBody& b = c.bodyB >= 0 ? bodies[std::size_t(c.bodyB)] : none;
+  refresh(c, j, a, b, pass.stamp);
+  LcpRowWriter w(c, bodies, pass, rows, groups);
+  JointParts& p = *c.parts;
+  if (!c.lockedOnly) switch (j.type) {
+      case JointType::Ball:
+        // The rotation friction's ball |z| <= f h as a box per world axis.
+        if (j.friction > 0)
+          for (int i = 0; i < 3; ++i)
+            w.motor(angularRow(Vec3::Unit(i)), 0, j.friction * pass.h, &p.spin.impulse(i));
+        if (j.coneLimit) w.limit(p.cone.row, *j.coneLimit - c.swing, -1, &p.cone.upper);
+        if (j.axes[3].limits) w.axis(p.axes[3], j.axes[3], c.coordinate[3]);
+        break;
+      case JointType::Hinge:
+        w.axis(p.axes[3], j.axes[3], c.coordinate[3]);
+        break;
+      case JointType::Slider:
+        w.axis(p.axes[0], j.axes[0], c.coordinate[0]);
+        break;
+      case JointType::Universal:
+      case JointType::SixDof:
+        for (std::size_t i : {3, 4, 5, 0, 1, 2})
+          if (!j.axes[i].locked) w.axis(p.axes[i], j.axes[i], c.coordinate[i]);
+        break;
+      case JointType::Weld:
+        break;
+      case JointType::Distance: {
+        AxisRows& ax = p.axes[0];
+        const Real length = c.coordinate[0];
+        if (j.spring)
+          w.soft(ax.row, length - j.length,
+                 makeSoft(j.spring->frequency, j.spring->dampingRatio, pass.h), &ax.spring);
+        if (j.minLength < j.maxLength) {
+          w.limit(ax.row, length - j.minLength, 1, &ax.lower);
+          w.limit(ax.row, j.maxLength - length, -1, &ax.upper);
+        }
+        break;
+      }
+    }
+  const Softness lockSoft = j.type == JointType::Weld && j.spring
+                                ? makeSoft(j.spring->frequency, j.spring->dampingRatio, pass.h)
+                                : pass.rigid;
+  for (int i = 0; i < c.lock.count; ++i)
+    w.soft(lockRow(c.lock, i), c.lock.error(i), lockSoft, &c.lock.impulse(i));
 }
 
 void storeJoints(RigidBodyData& D, Real h, StepWorkers& workers) {

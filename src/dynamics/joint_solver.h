@@ -6,10 +6,15 @@
 //   storeJoints          impulses kept for the next step, forces, and breaking.
 // Joints are soft constraints in the soft step (Box2D v3: twice the contact stiffness, damping
 // ratio 2, relaxed without bias like the contacts), rigid rows with Baumgarte's feedback for
-// pgs and the LCP solvers.
+// pgs and the LCP solvers; with the LCP solvers their rows join their island's LCP
+// (appendJointLcpRows).
 #pragma once
 
 #include "rigid_body_data.h"
+
+namespace inertia::detail {
+struct LcpRow;
+}
 
 namespace inertia::detail {
 
@@ -61,6 +66,13 @@ void warmStartJoint(const RigidBodyData& D, JointConstraint& c, std::vector<Solv
 /// One pass over a joint's rows.
 void solveJoint(const RigidBodyData& D, JointConstraint& c, std::vector<SolverBody>& bodies,
                 const JointPass& pass);
+/// The joint's rows for the LCP solvers (rigid with Baumgarte's bias from `pass`, springs and
+/// servos soft through a compliance), prepared for `pass.stamp`; each stores its impulse in the
+/// joint's accumulated impulses, which also warm start it. Boxed rows take Lemke's friction
+/// groups from `groups` on.
+void appendJointLcpRows(const RigidBodyData& D, JointConstraint& c,
+                        const std::vector<SolverBody>& bodies, const JointPass& pass,
+                        std::vector<LcpRow>& rows, int& groups);
 /// After the substeps: impulses into the records, forces (impulse over the substep), and the
 /// joints whose force or torque passed their threshold break (disabled, reported once).
 void storeJoints(RigidBodyData& D, Real h, StepWorkers& workers);

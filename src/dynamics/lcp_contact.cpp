@@ -60,9 +60,19 @@ void applyRow(const Row& r, double impulse, std::vector<SolverBody>& bodies) {
   apply(r.b, r.linB, r.angB);
 }
 
+}  // namespace
+
+double lcpRowVelocity(const LcpRow& r, const std::vector<SolverBody>& bodies) {
+  return rowVelocity(r, bodies);
+}
+
+double lcpDelassus(const LcpRow& i, const LcpRow& j, const std::vector<SolverBody>& bodies) {
+  return delassus(i, j, bodies);
+}
+
 // The rows of one constraint, with the pgs solver's right-hand side (contact_solver.cpp).
-void buildRows(const ContactConstraint& c, int ci, const std::vector<SolverBody>& bodies,
-               const BiasMode& mode, std::vector<Row>& rows, int& groups) {
+void appendContactRows(const ContactConstraint& c, int ci, const std::vector<SolverBody>& bodies,
+                       const BiasMode& mode, std::vector<LcpRow>& rows, int& groups) {
   const SolverBody& a = bodyOf(bodies, c.bodyA);
   const SolverBody& b = bodyOf(bodies, c.bodyB);
   const Vec3d n = c.normal.cast<double>();
@@ -143,6 +153,8 @@ void buildRows(const ContactConstraint& c, int ci, const std::vector<SolverBody>
   }
 }
 
+namespace {
+
 // The normal rows that bound row `i`'s box: its point's normal (friction) or every normal of
 // its constraint (rolling, spinning).
 template <class F>
@@ -158,6 +170,7 @@ void forEachSource(const std::vector<Row>& rows, std::size_t i, F&& f) {
 
 // The previous impulse of a row (the warm start), for Dantzig's first friction bounds.
 double storedImpulse(const Row& r, const std::vector<ContactConstraint>& cs) {
+  if (r.store != nullptr) return double(*r.store);
   const ContactConstraint& c = cs[static_cast<std::size_t>(r.constraint)];
   const ConstraintPoint& p = c.points[static_cast<std::size_t>(r.point)];
   switch (r.kind) {
@@ -169,21 +182,49 @@ double storedImpulse(const Row& r, const std::vector<ContactConstraint>& cs) {
       return c.rollingImpulse[static_cast<std::size_t>(r.axis)];
     case RowKind::Spinning:
       return c.spinningImpulse;
+    default:
+      return 0;
   }
-  return 0;
 }
 
+// Dantzig's box of a row that no normal row bounds.
+void fixedBounds(const Row& r, double& lo, double& hi) {
+  switch (r.kind) {
+    case RowKind::Bilateral:
+      lo = -kInf;
+      hi = kInf;
+      return;
+    case RowKind::Boxed:
+      lo = -r.bound;
+      hi = r.bound;
+      return;
+    default:  // Normal, Limit
+      lo = 0;
+      hi = kInf;
+  }
+}
+
+bool oneSided(const Row& r) { return r.kind == RowKind::Normal || r.kind == RowKind::Limit; }
+bool frictionLike(const Row& r) {
+  return r.kind == RowKind::Tangent || r.kind == RowKind::Rolling || r.kind == RowKind::Spinning;
+}
+
+}  // namespace
+
 // Physical impulses (z = D y) from the solution of the chosen LCP.
-bool solveIsland(const std::vector<Row>& rows, const std::vector<ContactConstraint>& cs,
-                 const std::vector<SolverBody>& bodies, LcpMethod method, Eigen::VectorXd& impulses,
-                 LcpContactStats* stats) {
+bool solveLcpRows(const std::vector<Row>& rows, const std::vector<ContactConstraint>& cs,
+                  const std::vector<SolverBody>& bodies, LcpMethod method,
+                  Eigen::VectorXd& impulses, LcpContactStats* stats) {
   const auto n = static_cast<Eigen::Index>(rows.size());
-  // Jacobi scaling: A' = D A D + eps I with D = diag(A)^-1/2, b' = D b, z = D y.
+  if (n > kMaxLcpUnknowns) return false;
+  // Jacobi scaling: A' = D A D + eps I with D = diag(A)^-1/2, b' = D b, z = D y; a soft row's
+  // compliance on its diagonal first.
   Eigen::MatrixXd A(n, n);
   for (Eigen::Index i = 0; i < n; ++i)
     for (Eigen::Index j = 0; j <= i; ++j)
       A(i, j) = A(j, i) =
           delassus(rows[static_cast<std::size_t>(i)], rows[static_cast<std::size_t>(j)], bodies);
+  for (Eigen::Index i = 0; i < n; ++i) A(i, i) += rows[static_cast<std::size_t>(i)].cfm;
   Eigen::VectorXd D(n), b(n);
   for (Eigen::Index i = 0; i < n; ++i) {
     D[i] = A(i, i) > 0 ? 1 / std::sqrt(A(i, i)) : 1.0;
@@ -203,8 +244,10 @@ bool solveIsland(const std::vector<Row>& rows, const std::vector<ContactConstrai
     for (std::size_t i = 0; i < rows.size(); ++i) {
       const auto ii = static_cast<Eigen::Index>(i);
       y[ii] = storedImpulse(rows[i], cs) / D[ii];
-      if (rows[i].kind == RowKind::Normal) {
-        p.hi[ii] = kInf;
+      if (!frictionLike(rows[i])) {
+        fixedBounds(rows[i], p.lo[ii], p.hi[ii]);
+        p.lo[ii] /= D[ii];  // y = z / D
+        p.hi[ii] /= D[ii];
         continue;
       }
       // |z_i| <= c sum z_n  <=>  |y_i| <= c sum (D_n / D_i) y_n
@@ -225,15 +268,17 @@ bool solveIsland(const std::vector<Row>& rows, const std::vector<ContactConstrai
   std::vector<Eigen::Index> normalRows, dirRow, groupOf;
   std::vector<double> dirSign;
   int groupCount = 0;
+  // A bilateral row is two directions without a slack (z+ _|_ w >= 0, z- _|_ -w >= 0 hold w
+  // at 0); a boxed one two directions whose slack's limit is its bound.
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    if (rows[i].kind == RowKind::Normal) {
+    if (oneSided(rows[i])) {
       normalRows.push_back(static_cast<Eigen::Index>(i));
       continue;
     }
     for (double sign : {1.0, -1.0}) {
       dirRow.push_back(static_cast<Eigen::Index>(i));
       dirSign.push_back(sign);
-      groupOf.push_back(rows[i].group);
+      groupOf.push_back(rows[i].kind == RowKind::Bilateral ? -1 : rows[i].group);
     }
     groupCount = std::max(groupCount, rows[i].group + 1);
   }
@@ -241,6 +286,7 @@ bool solveIsland(const std::vector<Row>& rows, const std::vector<ContactConstrai
   std::vector<int> groupIndex(static_cast<std::size_t>(groupCount), -1);
   int groups = 0;
   for (Eigen::Index& g : groupOf) {
+    if (g < 0) continue;
     int& slot = groupIndex[static_cast<std::size_t>(g)];
     if (slot < 0) slot = groups++;
     g = slot;
@@ -266,6 +312,7 @@ bool solveIsland(const std::vector<Row>& rows, const std::vector<ContactConstrai
       M(i, j) = signOf(i) * signOf(j) * A(rowOf(i), rowOf(j));
   }
   for (Eigen::Index k = 0; k < nd; ++k) {
+    if (groupOf[static_cast<std::size_t>(k)] < 0) continue;
     const Eigen::Index g = nn + nd + groupOf[static_cast<std::size_t>(k)];
     const double scale = D[dirRow[static_cast<std::size_t>(k)]];
     M(nn + k, g) = scale;   // w_beta = D^T v+ + gamma (times the row's scale)
@@ -273,10 +320,15 @@ bool solveIsland(const std::vector<Row>& rows, const std::vector<ContactConstrai
   }
   std::vector<char> linked(static_cast<std::size_t>(groups), 0);
   for (Eigen::Index k = 0; k < nd; ++k) {
+    if (groupOf[static_cast<std::size_t>(k)] < 0) continue;
     const auto g = static_cast<std::size_t>(groupOf[static_cast<std::size_t>(k)]);
     if (linked[g]) continue;
     linked[g] = 1;
     const auto i = static_cast<std::size_t>(dirRow[static_cast<std::size_t>(k)]);
+    if (rows[i].kind == RowKind::Boxed) {  // w_gamma = bound - sum beta
+      q[nn + nd + static_cast<Eigen::Index>(g)] = rows[i].bound;
+      continue;
+    }
     forEachSource(rows, i, [&](std::size_t j) {
       const auto jn = static_cast<Eigen::Index>(
           std::find(normalRows.begin(), normalRows.end(), static_cast<Eigen::Index>(j)) -
@@ -295,7 +347,7 @@ bool solveIsland(const std::vector<Row>& rows, const std::vector<ContactConstrai
   }
   for (Eigen::Index g = 0; g < groups; ++g) {
     const Eigen::Index slack = nn + nd + g;
-    const double limit = M.row(slack).head(nn).dot(x.head(nn));
+    const double limit = q[slack] + M.row(slack).head(nn).dot(x.head(nn));
     const double used = -M.row(slack).segment(nn, nd).dot(x.segment(nn, nd));
     if (limit > 0 && used >= (1 - 1e-6) * limit) x[slack] = 1;
   }
@@ -308,10 +360,16 @@ bool solveIsland(const std::vector<Row>& rows, const std::vector<ContactConstrai
   return true;
 }
 
+namespace {
+
 void storeImpulse(const Row& r, double impulse, std::vector<ContactConstraint>& cs) {
+  const auto value = static_cast<Real>(impulse);
+  if (r.store != nullptr) {
+    *r.store = value;
+    return;
+  }
   ContactConstraint& c = cs[static_cast<std::size_t>(r.constraint)];
   ConstraintPoint& p = c.points[static_cast<std::size_t>(r.point)];
-  const auto value = static_cast<Real>(impulse);
   switch (r.kind) {
     case RowKind::Normal:
       p.normalImpulse = value;
@@ -325,6 +383,8 @@ void storeImpulse(const Row& r, double impulse, std::vector<ContactConstraint>& 
       break;
     case RowKind::Spinning:
       c.spinningImpulse = value;
+      break;
+    default:
       break;
   }
 }
@@ -340,6 +400,17 @@ void clearImpulses(ContactConstraint& c) {
 
 }  // namespace
 
+void applyLcpImpulses(const std::vector<LcpRow>& rows, const Eigen::VectorXd& impulses,
+                      std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies) {
+  for (const Row& r : rows)
+    if (r.store == nullptr) clearImpulses(cs[static_cast<std::size_t>(r.constraint)]);
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    const double z = impulses[static_cast<Eigen::Index>(r)];
+    applyRow(rows[r], z, bodies);
+    storeImpulse(rows[r], z, cs);
+  }
+}
+
 void solveContactsLcp(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
                       const BiasMode& mode, LcpMethod method, int fallbackIterations,
                       const ConstraintIslands& islands, LcpWorkspace& ws, LcpContactStats* stats) {
@@ -354,16 +425,10 @@ void solveContactsLcp(std::vector<ContactConstraint>& cs, std::vector<SolverBody
     if (stats) ++stats->islands;
     rows.clear();
     int groups = 0;
-    for (std::uint32_t ci : island) buildRows(cs[ci], int(ci), bodies, rigid, rows, groups);
-    const bool small = static_cast<int>(rows.size()) <= kMaxLcpUnknowns;
-    if (small && solveIsland(rows, cs, bodies, method, impulses, stats)) {
+    for (std::uint32_t ci : island) appendContactRows(cs[ci], int(ci), bodies, rigid, rows, groups);
+    if (solveLcpRows(rows, cs, bodies, method, impulses, stats)) {
       if (stats) ++stats->direct;
-      for (std::uint32_t ci : island) clearImpulses(cs[ci]);
-      for (std::size_t r = 0; r < rows.size(); ++r) {
-        const double z = impulses[static_cast<Eigen::Index>(r)];
-        applyRow(rows[r], z, bodies);
-        storeImpulse(rows[r], z, cs);
-      }
+      applyLcpImpulses(rows, impulses, cs, bodies);
       continue;
     }
     // Fallback: the pgs iterations on this island, warm started as the pgs solver is.

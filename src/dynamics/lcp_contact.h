@@ -1,5 +1,9 @@
 // Internal: the contact rows of a substep solved as one LCP per island, directly (Dantzig or
-// Lemke, see lcp.h), in place of the Gauss-Seidel iterations of the pgs solver.
+// Lemke, see lcp.h), in place of the Gauss-Seidel iterations of the pgs solver. Joints add
+// their rows to their island's LCP (joint_solver.h's appendJointLcpRows): bilateral rows are
+// free in Dantzig's box and two directions without a slack in Lemke's form; limits are
+// one-sided as normals; boxed rows (motors, joint friction) have a fixed box, in Lemke's form
+// two directions whose slack's limit is the bound.
 //
 // The rows are those of contact_solver.h, rigid, with the pgs solver's right-hand side: the
 // normal row asks for J v+ + bias >= 0 with Baumgarte's bias on the overlap beyond the slop
@@ -52,7 +56,17 @@ struct LcpContactStats {
 /// tangentImpulse, rollingImpulse, spinningImpulse, maxNormalImpulse), so events and the
 /// next substep's fallback warm start see them. `fallbackIterations` pgs iterations for the
 /// islands that are not solved directly.
-enum class LcpRowKind : unsigned char { Normal, Tangent, Rolling, Spinning };
+/// Contact rows (Normal, Tangent, Rolling, Spinning) and joint rows: Bilateral (a locked row or
+/// a spring, z free), Limit (z >= 0) and Boxed (a motor or friction, |z| <= bound).
+enum class LcpRowKind : unsigned char {
+  Normal,
+  Tangent,
+  Rolling,
+  Spinning,
+  Bilateral,
+  Limit,
+  Boxed
+};
 
 /// One Jacobian row of an island's LCP: the relative velocity
 /// J v = linB.vB + angB.wB + linA.vA + angA.wA.
@@ -66,8 +80,32 @@ struct LcpRow {
   int point = 0;       ///< Point (normal, tangent) or axis (tangent, rolling).
   int axis = 0;
   double coefficient = 0;  ///< Friction coefficient or lever arm (tangent, rolling, spinning).
-  int group = -1;          ///< Friction group (Lemke) of tangent, rolling, spinning rows.
+  int group = -1;          ///< Friction group (Lemke) of tangent, rolling, spinning, boxed rows.
+  /// Joint rows: a soft row's compliance, added to its diagonal (ODE's CFM: the soft
+  /// constraint's fixed point J v+ + bias + cfm z = 0), a boxed row's bound (N s), and the
+  /// accumulated impulse the row reads its warm start from and stores its impulse in.
+  double cfm = 0;
+  double bound = 0;
+  Real* store = nullptr;
 };
+
+/// The relative velocity J v of a row.
+double lcpRowVelocity(const LcpRow& r, const std::vector<SolverBody>& bodies);
+/// J_i M^-1 J_j^T of two rows.
+double lcpDelassus(const LcpRow& i, const LcpRow& j, const std::vector<SolverBody>& bodies);
+/// The rows of contact constraint `c` (index `ci`) with the pgs solver's right-hand side; their
+/// friction groups are numbered from `groups` on.
+void appendContactRows(const ContactConstraint& c, int ci, const std::vector<SolverBody>& bodies,
+                       const BiasMode& mode, std::vector<LcpRow>& rows, int& groups);
+/// One island's rows (contacts' and joints') as one LCP: false when it is larger than
+/// kMaxLcpUnknowns or the solver fails. `cs` gives the contact rows' warm start.
+bool solveLcpRows(const std::vector<LcpRow>& rows, const std::vector<ContactConstraint>& cs,
+                  const std::vector<SolverBody>& bodies, LcpMethod method,
+                  Eigen::VectorXd& impulses, LcpContactStats* stats);
+/// Applies a solved island's impulses to the bodies and stores them (the contacts' in `cs`,
+/// a joint row's through its store), after clearing the contacts' old ones.
+void applyLcpImpulses(const std::vector<LcpRow>& rows, const Eigen::VectorXd& impulses,
+                      std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies);
 
 /// What solveContactsLcp keeps from call to call, so that the rows and the fallback's copies
 /// are not allocated every substep (the dense solve of an island still allocates).

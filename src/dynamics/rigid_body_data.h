@@ -260,6 +260,7 @@ struct RigidBodyData {
   std::vector<JointConstraint> jointConstraints;  // this step's joints (in colour order)
   std::vector<JointConstraint> sortedJoints;      // scratch of the sort by colour
   std::vector<GraphEdge> jointEdges;              // per joint constraint: its solver bodies
+  std::vector<GraphEdge> lcpEdges;                // the contacts' edges, then the joints'
   ConstraintIslands lcpIslands;         // the LCP solvers' islands of this step
   LcpWorkspace lcp;
   std::vector<std::uint8_t> islandAwake;

@@ -226,12 +226,59 @@ void relax(Data& D, const BiasMode& relaxMode, const JointPass& jointPass, int i
   solve(D, relaxMode, jointPass, iterations, workers);
 }
 
-// With the LCP solvers the joints run before each substep's LCP, in sequence: warm started,
-// then `iterations` passes (their rows are not in the LCP yet).
-void solveJointsInSequence(Data& D, const JointPass& pass, int iterations) {
-  for (JointConstraint& c : D.jointConstraints) warmStartJoint(D, c, D.solverBodies, pass.stamp);
-  for (int it = 0; it < iterations; ++it)
-    for (JointConstraint& c : D.jointConstraints) solveJoint(D, c, D.solverBodies, pass);
+// An island the LCP does not take: `iterations` pgs passes over its joints, then its contacts,
+// warm started (the contacts on copies, as solveContactsLcp's fallback).
+void solveIslandPgs(Data& D, std::span<const std::uint32_t> island, const BiasMode& rigid,
+                    const JointPass& jointPass, int iterations) {
+  const std::size_t contactCount = D.constraints.size();
+  std::vector<ContactConstraint>& contacts = D.lcp.scratch;
+  contacts.clear();
+  for (std::uint32_t k : island)
+    if (k < contactCount) contacts.push_back(D.constraints[k]);
+  warmStart(contacts, D.solverBodies);
+  for (std::uint32_t k : island)
+    if (k >= contactCount)
+      warmStartJoint(D, D.jointConstraints[k - contactCount], D.solverBodies, jointPass.stamp);
+  for (int it = 0; it < iterations; ++it) {
+    for (std::uint32_t k : island)
+      if (k >= contactCount)
+        solveJoint(D, D.jointConstraints[k - contactCount], D.solverBodies, jointPass);
+    solve(contacts, D.solverBodies, rigid);
+  }
+  std::size_t next = 0;
+  for (std::uint32_t k : island)
+    if (k < contactCount) D.constraints[k] = contacts[next++];
+}
+
+// With the LCP solvers each island of contacts and joints (linked through shared solver
+// bodies) is one LCP: the contacts' rows as solveContactsLcp makes them and the joints' rows
+// (appendJointLcpRows: bilateral locked rows, one-sided limits, boxed motors and friction,
+// springs through a compliance). An island too large for a direct solve, or whose LCP fails,
+// takes the pgs iterations instead.
+void solveIslandsLcp(Data& D, const BiasMode& mode, const JointPass& jointPass, LcpMethod method,
+                     int iterations) {
+  BiasMode rigid = mode;
+  rigid.soft = false;
+  LcpWorkspace& ws = D.lcp;
+  const std::size_t contactCount = D.constraints.size();
+  const ConstraintIslands& islands = D.lcpIslands;
+  for (std::size_t i = 0; i + 1 < islands.offsets.size(); ++i) {
+    const std::span<const std::uint32_t> island(islands.constraints.data() + islands.offsets[i],
+                                                islands.offsets[i + 1] - islands.offsets[i]);
+    ws.rows.clear();
+    int groups = 0;
+    for (std::uint32_t k : island) {
+      if (k < contactCount)
+        appendContactRows(D.constraints[k], int(k), D.solverBodies, rigid, ws.rows, groups);
+      else
+        appendJointLcpRows(D, D.jointConstraints[k - contactCount], D.solverBodies, jointPass,
+                           ws.rows, groups);
+    }
+    if (solveLcpRows(ws.rows, D.constraints, D.solverBodies, method, ws.impulses, nullptr))
+      applyLcpImpulses(ws.rows, ws.impulses, D.constraints, D.solverBodies);
+    else
+      solveIslandPgs(D, island, rigid, jointPass, iterations);
+  }
 }
 
 // The impulses into the contacts, for the next step's warm start and for the user.
@@ -320,7 +367,10 @@ void prepareContacts(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
       const SolverBody& b = c.bodyB >= 0 ? D.solverBodies[static_cast<std::size_t>(c.bodyB)] : none;
       computeMasses(c, a, b);
     }
-    groupConstraints(D.contactEdges, D.solverBodies.size(), D.lcpIslands);
+    // One island list over the contacts, then the joints (index - contacts).
+    D.lcpEdges.assign(D.contactEdges.begin(), D.contactEdges.end());
+    D.lcpEdges.insert(D.lcpEdges.end(), D.jointEdges.begin(), D.jointEdges.end());
+    groupConstraints(D.lcpEdges, D.solverBodies.size(), D.lcpIslands);
   } else {
     // The graph's colours; the bundles compute the masses themselves, a bundle at a time.
     colorGraph(D.jointEdges, D.contactEdges, D.solverBodies, D.coloring);
@@ -357,10 +407,8 @@ double solveSubsteps(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
     integrationTime += std::chrono::duration<double>(Clock::now() - ti).count();
     if (lcp) {
       // Direct LCP per island in place of the warm start and iterations (lcp_contact.h).
-      solveJointsInSequence(D, jointSolve, s.solver.iterations);
       updateApproach(D.constraints, D.solverBodies);
-      solveContactsLcp(D.constraints, D.solverBodies, mode, lcpMethod, s.solver.iterations,
-                       D.lcpIslands, D.lcp);
+      solveIslandsLcp(D, mode, jointSolve, lcpMethod, s.solver.iterations);
     } else {
       warmStart(D, jointSolve.stamp, workers);
       solve(D, mode, jointSolve, s.solver.iterations, workers);

@@ -34,14 +34,15 @@ class StepWorkers;
 /// - Pgs: sequential impulses (projected Gauss-Seidel) on rigid rows with warm starting and
 ///   Baumgarte position correction, once per substep.
 /// - LcpDantzig, LcpLemke: direct LCP solvers for small systems (validation and teaching): in
-///   each substep, in place of the pgs iterations, each island's contact rows (same rows and
-///   Baumgarte bias as pgs) form one dense LCP on the Delassus matrix J M^-1 J^T, solved
-///   exactly. Dantzig (Baraff 1994's principal pivoting, ODE's boxed "findex" LCP): normal,
-///   two friction rows per point boxed by mu times the normal impulse (friction pyramid), and
-///   the rolling and spinning rows. Lemke (complementary pivoting): the Stewart-Trinkle
-///   polygonal cone (|t1| + |t2| <= mu n, four directions and a sliding-speed slack) and the
-///   rolling and spinning rows likewise. An island whose LCP exceeds 192 unknowns (about 60
-///   contact points for Dantzig, 30 for Lemke), or whose LCP fails, is solved by the pgs
+///   each substep, in place of the pgs iterations, each island's contact and joint rows (same
+///   rows and Baumgarte bias as pgs; a joint's locked rows bilateral, its limits one-sided, its
+///   motors and friction boxed, its springs soft through a compliance) form one dense LCP on
+///   the Delassus matrix J M^-1 J^T, solved exactly. Dantzig (Baraff 1994's principal pivoting,
+///   ODE's boxed "findex" LCP): normal, two friction rows per point boxed by mu times the normal
+///   impulse (friction pyramid), and the rolling and spinning rows. Lemke (complementary pivoting):
+///   the Stewart-Trinkle polygonal cone (|t1| + |t2| <= mu n, four directions and a sliding-speed
+///   slack) and the rolling and spinning rows likewise. An island whose LCP exceeds 192 unknowns
+///   (about 60 contact points for Dantzig, 30 for Lemke), or whose LCP fails, is solved by the pgs
 ///   iterations (`iterations` of them) for that substep instead.
 enum class SolverType { SoftStep, Pgs, LcpDantzig, LcpLemke };
 
