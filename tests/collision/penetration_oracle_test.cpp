@@ -305,11 +305,11 @@ Reference reference(const ShapeD& a, const ShapeD& b) {
   const auto axes = candidateAxes(ia, ib);
   const bool curved = a.kind == Kind::Cylinder || b.kind == Kind::Cylinder;
   const double inscribed = satDepth(ia, ib, axes);
-  // The eight best axes, each refined on the exact support functions.
+  // The four best axes, each refined on the exact support functions.
   std::vector<std::pair<double, Vec3d>> scored;
   for (const Vec3d& u : axes)
     for (const Vec3d& s : {u, Vec3d(-u)}) scored.push_back({overlap(a, b, s), s});
-  const std::size_t keep = std::min<std::size_t>(8, scored.size());
+  const std::size_t keep = std::min<std::size_t>(4, scored.size());
   std::partial_sort(scored.begin(), scored.begin() + keep, scored.end(),
                     [](const auto& x, const auto& y) { return x.first < y.first; });
   double hi = std::numeric_limits<double>::infinity();
@@ -415,15 +415,15 @@ void checkPair(const ShapeD& a, const ShapeD& b, Tally& tally, const std::string
 }  // namespace
 
 TEST(PenetrationOracle, RandomPairsOfEveryKindMeetTheDocumentedAccuracy) {
-  // 40 seeded pairs per ordered pair of kinds (1,000 in all), shapes of size 0.2..1 m whose
-  // centres lie within 0.6 m per axis: about nine in ten overlap.
+  // 24 seeded pairs per ordered pair of kinds (600 in all, 216 per kind), shapes of size 0.2..1 m
+  // whose centres lie within 0.6 m per axis: about nine in ten overlap.
   std::mt19937_64 rng(2101);
   constexpr Kind kinds[] = {Kind::Sphere, Kind::Capsule, Kind::Box, Kind::Cylinder, Kind::Hull};
   Tally all;
   for (Kind ka : kinds)
     for (Kind kb : kinds) {
       Tally t;
-      for (int k = 0; k < 40; ++k) {
+      for (int k = 0; k < 24; ++k) {
         const ShapeD a = makeShape(ka, randomShape(rng, ka), randomPose(rng, 0.6));
         const ShapeD b = makeShape(kb, randomShape(rng, kb), randomPose(rng, 0.6));
         checkPair(a, b, t,
@@ -437,8 +437,8 @@ TEST(PenetrationOracle, RandomPairsOfEveryKindMeetTheDocumentedAccuracy) {
       all.depthExcess = std::max(all.depthExcess, t.depthExcess);
       all.distanceExcess = std::max(all.distanceExcess, t.distanceExcess);
     }
-  EXPECT_GT(all.overlapping, 700);
-  EXPECT_GT(all.apart, 60);
+  EXPECT_GT(all.overlapping, 420);
+  EXPECT_GT(all.apart, 36);
   std::printf(
       "all: %d overlapping, %d apart; worst beyond the relative terms: depth %.1f ulps, "
       "distance %.1f ulps of the size\n",
