@@ -22,15 +22,24 @@ constexpr Real kEps = std::numeric_limits<Real>::epsilon();
 // Stop when the new support point lies within this fraction of the depth (plus an absolute
 // term, below) of the nearest face: polytopes stop exactly, curved cores at this accuracy.
 constexpr Real kEpaRelative = sizeof(Real) == 4 ? Real(1e-5) : Real(1e-7);
-// Rounding scale: lengths below kEpaAbsolute * size of the Minkowski difference are noise.
+// Degeneracy scale: lengths below kEpaAbsolute * size of the Minkowski difference make a flat
+// (zero-volume) difference.
 constexpr Real kEpaAbsolute = 64 * kEps;
+// Rounding of a support point's height over a face: a few ulps of the difference's size.
+constexpr Real kEpaRounding = 8 * kEps;
+
+// The faces' planes are computed in double from the (exact) support points: in float, a thin
+// face's normal is off by an ulp of the difference's size over the face's width, which on a
+// finely refined curved surface folds the polytope inward and stalls the search far short of
+// the depth (issue 21).
+using Vec3d = Eigen::Vector3d;
 
 struct Face {
   std::array<int, 3> i{};        // vertices, counter-clockwise seen from outside
   std::array<int, 3> adj{};      // adj[e]: the face across edge e (i[e] -> i[e + 1])
   std::array<int, 3> adjEdge{};  // which edge of adj[e] that is
-  Vec3 n = Vec3::Zero();         // outward unit normal (zero for a degenerate face)
-  Real d = 0;                    // n . w[i0]: distance of the plane from the origin
+  Vec3d n = Vec3d::Zero();       // outward unit normal (zero for a degenerate face)
+  double d = 0;                  // n . w[i0]: distance of the plane from the origin
   bool valid = false;            // false for degenerate faces, never chosen as the nearest
   bool live = false;             // false once removed (the slot is free)
 };
@@ -40,6 +49,7 @@ struct Face {
 // connected and its boundary, the horizon, a single loop in order.
 struct Polytope {
   std::array<SimplexVertex, kMaxVertices> v;
+  std::array<Vec3d, kMaxVertices> w;  // v[k].w in double
   int nv = 0;
   std::array<Face, kMaxFaces> f;
   int nf = 0;  // slots used (live or free)
@@ -58,11 +68,11 @@ struct Polytope {
     Face& face = f[k];
     face.i = {a, b, c};
     face.live = true;
-    const Vec3 n = (v[b].w - v[a].w).cross(v[c].w - v[a].w);
-    const Real len = n.norm();
+    const Vec3d n = (w[b] - w[a]).cross(w[c] - w[a]);
+    const double len = n.norm();
     face.valid = len > 0 && std::isfinite(len);
-    face.n = face.valid ? Vec3(n / len) : Vec3::Zero();
-    face.d = face.valid ? face.n.dot(v[a].w) : std::numeric_limits<Real>::infinity();
+    face.n = face.valid ? Vec3d(n / len) : Vec3d::Zero();
+    face.d = face.valid ? face.n.dot(w[a]) : std::numeric_limits<double>::infinity();
     return k;
   }
   void removeFace(int k) {
@@ -113,17 +123,24 @@ Vec3 anyOrthogonal(const Vec3& u) {
   return u.cross(e).normalized();
 }
 
-// The point of face f closest to the origin, as witness points on A and B.
+// The foot of the perpendicular from the origin onto face f's plane, d n, as witness points on
+// A and B: its barycentric weights in the face (signed areas, in double) applied to the support
+// points of A and B, so pointA - pointB = d n. Unclamped: when rounding leaves the foot a hair
+// outside the face, the weights go a hair negative rather than moving the foot.
 void faceWitness(const Polytope& p, const Face& f, Vec3& pa, Vec3& pb) {
-  Simplex s;
-  s.count = 3;
-  for (int k = 0; k < 3; ++k) s.v[k] = p.v[f.i[k]];
-  closestToOrigin(s);
+  const Vec3d foot = f.d * f.n;
+  const Vec3d& w0 = p.w[f.i[0]];
+  const Vec3d& w1 = p.w[f.i[1]];
+  const Vec3d& w2 = p.w[f.i[2]];
+  const double area = f.n.dot((w1 - w0).cross(w2 - w0));
+  const std::array<double, 3> lambda{f.n.dot((w1 - foot).cross(w2 - foot)) / area,
+                                     f.n.dot((w2 - foot).cross(w0 - foot)) / area,
+                                     f.n.dot((w0 - foot).cross(w1 - foot)) / area};
   pa.setZero();
   pb.setZero();
-  for (int k = 0; k < s.count; ++k) {
-    pa += s.lambda[k] * s.v[k].a;
-    pb += s.lambda[k] * s.v[k].b;
+  for (int k = 0; k < 3; ++k) {
+    pa += Real(lambda[k]) * p.v[f.i[k]].a;
+    pb += Real(lambda[k]) * p.v[f.i[k]].b;
   }
 }
 
@@ -137,6 +154,7 @@ EpaResult epa(const ConvexProxy& a, const ConvexProxy& b, const Simplex& simplex
   Real scale = (a.centre() - b.centre()).norm();
   for (int i = 0; i < p.nv; ++i) scale = std::max(scale, p.v[i].w.norm());
   const Real eps = kEpaAbsolute * std::max(scale, std::numeric_limits<Real>::min());
+  const Real noise = kEpaRounding * std::max(scale, std::numeric_limits<Real>::min());
 
   // Adds the support point farthest off the line of p.v[0], p.v[1] (six directions around
   // it); false, with a normal of the line, when the difference is that segment.
@@ -202,9 +220,12 @@ EpaResult epa(const ConvexProxy& a, const ConvexProxy& b, const Simplex& simplex
 
   // The tetrahedron's four faces, wound outward (away from the opposite vertex), and linked.
   {
-    const Vec3& w0 = p.v[0].w;
-    const Real vol = (p.v[1].w - w0).dot((p.v[2].w - w0).cross(p.v[3].w - w0));
-    if (vol > 0) std::swap(p.v[1], p.v[2]);  // make (0, 1, 2) face away from vertex 3
+    for (int k = 0; k < 4; ++k) p.w[k] = p.v[k].w.cast<double>();
+    const Vec3d& w0 = p.w[0];
+    const double vol = (p.w[1] - w0).dot((p.w[2] - w0).cross(p.w[3] - w0));
+    if (vol > 0)
+      std::swap(p.v[1], p.v[2]),
+          std::swap(p.w[1], p.w[2]);  // make (0, 1, 2) face away from vertex 3
     p.addFace(0, 1, 2);
     p.addFace(0, 3, 1);
     p.addFace(0, 2, 3);
@@ -230,16 +251,17 @@ EpaResult epa(const ConvexProxy& a, const ConvexProxy& b, const Simplex& simplex
     for (int k = 0; k < p.nf; ++k)
       if (p.f[k].live && p.f[k].valid && (best < 0 || p.f[k].d < p.f[best].d)) best = k;
     if (best < 0) break;  // every face degenerate: keep the last answer
+    const double nearest = p.f[best].d;
     // Among faces tied with the nearest (coplanar pieces of one face of the difference), take
     // one that holds the foot of the perpendicular, so the witness points need no clamping.
     for (int k = 0; k < p.nf; ++k) {
       const Face& f = p.f[k];
-      if (!f.live || !f.valid || f.d > p.f[best].d + eps) continue;
-      const Vec3 foot = f.d * f.n;
+      if (!f.live || !f.valid || f.d > nearest + noise) continue;
+      const Vec3d foot = f.d * f.n;
       bool inside = true;
       for (int e = 0; e < 3; ++e) {
-        const Vec3& x = p.v[f.i[e]].w;
-        const Vec3& y = p.v[f.i[(e + 1) % 3]].w;
+        const Vec3d& x = p.w[f.i[e]];
+        const Vec3d& y = p.w[f.i[(e + 1) % 3]];
         inside = inside && f.n.dot((y - x).cross(foot - x)) >= 0;
       }
       if (inside) {
@@ -248,13 +270,15 @@ EpaResult epa(const ConvexProxy& a, const ConvexProxy& b, const Simplex& simplex
       }
     }
     const Face face = p.f[best];
-    r.normal = face.n;
-    r.depth = std::max(face.d, Real(0));
+    r.normal = face.n.cast<Real>();
+    r.depth = Real(std::max(face.d, 0.0));
     faceWitness(p, face, r.pointA, r.pointB);
 
-    const SimplexVertex w = supportVertex(a, b, face.n);
-    const Real gain = face.n.dot(w.w) - face.d;
-    if (gain <= kEpaRelative * std::max(face.d, Real(0)) + eps) {
+    const SimplexVertex w = supportVertex(a, b, r.normal);
+    const Vec3d wd = w.w.cast<double>();
+    // How far the difference reaches beyond the face: the depth lies in [d, d + gain].
+    const double gain = face.n.dot(wd - p.w[face.i[0]]);
+    if (gain <= kEpaRelative * std::max(face.d, 0.0) + noise) {
       r.converged = true;
       break;
     }
@@ -264,6 +288,7 @@ EpaResult epa(const ConvexProxy& a, const ConvexProxy& b, const Simplex& simplex
     // it does not see is a horizon edge. Depth first, edges in winding order, so the horizon
     // comes out as one loop in order.
     const int iw = p.nv;
+    p.w[p.nv] = wd;
     p.v[p.nv++] = w;
     int nh = 0, top = 0;
     p.removeFace(best);
@@ -273,7 +298,7 @@ EpaResult epa(const ConvexProxy& a, const ConvexProxy& b, const Simplex& simplex
       const auto [fk, ek] = stack[--top];
       Face& f = p.f[fk];
       if (!f.live) continue;
-      const bool visible = f.valid && f.n.dot(w.w - p.v[f.i[0]].w) > eps;
+      const bool visible = f.valid && f.n.dot(wd - p.w[f.i[0]]) > 0;
       if (!visible) {
         if (nh == kMaxFaces)
           broken = true;
@@ -301,6 +326,9 @@ EpaResult epa(const ConvexProxy& a, const ConvexProxy& b, const Simplex& simplex
         break;
       }
       p.link(nf, 0, fk, ek);
+      // The polytope only grows, so no face may come nearer than the one replaced: a nearer one
+      // folds inward (rounding on a nearly flat horizon) and would lead the search astray.
+      if (p.f[nf].valid && p.f[nf].d < nearest - noise) broken = true;
       if (prev >= 0) {
         if (p.f[prev].i[1] != from)
           broken = true;  // not a loop: rounding made a mess

@@ -272,8 +272,7 @@ namespace {
 
 // Relative gap between |v| and the lower bound v.w/|v| at which GJK stops: a few ulps in float,
 // 1e-12 in double (below that, curved cores only make GJK crawl).
-constexpr Real kGjkRelative =
-    std::max(Real(16) * std::numeric_limits<Real>::epsilon(), Real(1e-12));
+constexpr Real kGjkRelative = std::max(Real(8) * std::numeric_limits<Real>::epsilon(), Real(1e-12));
 // |v| below this times the size of the Minkowski difference counts as touching.
 constexpr Real kGjkAbsolute = Real(32) * std::numeric_limits<Real>::epsilon();
 
@@ -354,6 +353,43 @@ GjkResult gjk(const ConvexProxy& a, const ConvexProxy& b, const Vec3& guess) {
 // ---------------------------------------------------------------------------------------------
 // GJK + EPA with the radii
 
+namespace {
+
+// Rounded shapes whose cores are apart by less than their radii overlap by radii - distance
+// along the cores' closest direction, n = (pointB - pointA) / distance. Rounding puts an ulp of
+// the coordinates into pointB - pointA, so for nearly touching cores n is off by ulps over the
+// distance, and moving B along it by the depth leaves the shapes overlapping (issue 21). The
+// supports' gap along n, h_B(-n) - h_A(n), is at most the distance, equal when n is right: when
+// it falls short beyond the depth accuracy, the normal is taken from EPA instead, on B moved
+// towards A until the cores overlap by about their size's thousandth (EPA's face normals come
+// from differences of support points a whole face apart). The shift biases EPA's normal towards
+// n by (1 - cos angle) * shift, second order in the angle; the depth stays radii - distance.
+void refineRoundedNormal(const ConvexProxy& a, const ConvexProxy& b, const GjkResult& g,
+                         ConvexSeparation& out) {
+  const Vec3& n = out.normal;
+  const Vec3 sa = a.support(n), sb = b.support(-n);
+  const Real scale =
+      (sa - a.centre()).norm() + (sb - b.centre()).norm() + (a.centre() - b.centre()).norm();
+  const Real noise = Real(8) * std::numeric_limits<Real>::epsilon() * scale;
+  const Real gap = n.dot(sb - sa);
+  const Real depth = -out.distance;
+  const Real rel = sizeof(Real) == 4 ? Real(1e-5) : Real(1e-7);
+  if (!(g.distance - gap > rel * depth + noise)) return;
+  ConvexProxy moved = b;
+  const Vec3 shift = -(g.distance + Real(1e-3) * scale) * n;
+  for (Vec3& x : moved.points) x += shift;
+  moved.position += shift;
+  const GjkResult h = gjk(a, moved, n);
+  if (!h.overlapping) return;
+  const EpaResult e = epa(a, moved, h.simplex);
+  if (!e.converged) return;
+  out.normal = e.normal;
+  out.pointA = e.pointA + a.radius * e.normal;
+  out.pointB = out.pointA - depth * e.normal;
+}
+
+}  // namespace
+
 ConvexSeparation separation(const ConvexProxy& a, const ConvexProxy& b, const Vec3& guess) {
   ConvexSeparation out;
   const GjkResult g = gjk(a, b, guess);
@@ -366,6 +402,7 @@ ConvexSeparation separation(const ConvexProxy& a, const ConvexProxy& b, const Ve
     out.distance = g.distance - radii;
     out.pointA = g.pointA + a.radius * out.normal;
     out.pointB = g.pointB - b.radius * out.normal;
+    if (out.distance < 0) refineRoundedNormal(a, b, g, out);
     return out;
   }
   const EpaResult e = epa(a, b, g.simplex);

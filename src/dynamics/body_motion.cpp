@@ -42,7 +42,9 @@ void finalizeBodies(RigidBodyData& D, const DynamicsSettings& s, Real dt, StepWo
             auto dadv = [c](Real, const auto&, const auto&, const auto& dir, auto out) {
               out = -c * dir;
             };
-            ode::SecondOrderSystem system{a, ode::ZeroJacobian{}, dadv};
+            // Template arguments spelled out: clang before 17 has no aggregate deduction.
+            ode::SecondOrderSystem<decltype(a), ode::ZeroJacobian, decltype(dadv)> system{
+                a, ode::ZeroJacobian{}, dadv};
             ode::Workspace<Real>& ws = D.workspaces[bi];
             if (!b.wasFree) ws.resetHistory();
             Vec3 x = b.com;

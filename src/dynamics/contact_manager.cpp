@@ -282,7 +282,8 @@ void updateContacts(RigidBodyData& D, Real dt, const ContactTuning& tuning, Step
                          std::make_tuple(D.pairs[first].first, D.pairs[first].second, 0u, 0u),
                          [](const ContactInfo& p, const auto& k) { return contactKey(p) < k; });
     for (std::size_t pi = first; pi < last; ++pi) {
-      const auto [a, b] = D.pairs[pi];
+      // Not a structured binding: the lambda below captures them (clang before 16 cannot).
+      const auto a = std::get<0>(D.pairs[pi]), b = std::get<1>(D.pairs[pi]);
       const Data::ShapeFrame& fa = D.frames[a];
       const Data::ShapeFrame& fb = D.frames[b];
       ContactSettings cs;

@@ -487,7 +487,10 @@ void ParticleSystem::integrate(Real h, detail::StepWorkers& workers) {
                   out = (moved - base) / scale;
                 };
               };
-              ode::SecondOrderSystem system{accel, product(true), product(false)};
+              // Template arguments spelled out: clang before 17 has no aggregate deduction.
+              auto dadx = product(true), dadv = product(false);
+              ode::SecondOrderSystem<decltype(accel), decltype(dadx), decltype(dadv)> system{
+                  accel, dadx, dadv};
               ode::step(settings_.integrator, system, t, h, x, v, w.workspaces[b],
                         ode::LinearSolverOptions<Real>{.solver = ode::LinearSolver::BiCgStab});
             } else {

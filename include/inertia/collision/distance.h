@@ -35,7 +35,9 @@ struct ClosestPoints {
 /// signed-volume sub-algorithm (Montanari et al. 2017) on the shapes' cores (a sphere's centre,
 /// a capsule's segment, the box, cylinder or hull), then the radii; EPA supplies the normal
 /// and points when the cores overlap. Accuracy: polytope pairs are exact up to rounding (a few
-/// ulps of the coordinates); curved cylinders to a relative 1e-6 in float (1e-12 in double).
+/// ulps of the coordinates); pairs with a cylinder to a relative 1e-6 in float (1e-12 in double),
+/// plus the same rounding. That is the accuracy of the distance and the points; the normal of
+/// nearly touching shapes is only as good as pointB - pointA, which carries their rounding.
 ClosestPoints closestPoints(const Collider& a, const Transform& poseA, const Collider& b,
                             const Transform& poseB);
 
@@ -54,7 +56,10 @@ struct Penetration {
 /// the cores, then EPA (expanding polytope, van den Bergen 2001) when the cores themselves
 /// overlap; rounded shapes whose cores are apart need no EPA (depth = radii - core distance).
 /// EPA is exact for polytopes (up to rounding) and within a relative 1e-5 of the depth in float
-/// (1e-7 in double) for cylinders.
+/// (1e-7 in double) for cylinders, plus rounding: a few dozen ulps of the pair's size (its
+/// centres' distance plus the shapes' reach); moving B by depth * normal separates the pair to
+/// the same accuracy. tests/collision/penetration_oracle_test.cpp checks this on random pairs of
+/// every kind against an exact reference.
 std::optional<Penetration> penetration(const Collider& a, const Transform& poseA, const Collider& b,
                                        const Transform& poseB);
 
