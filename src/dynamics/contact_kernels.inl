@@ -528,7 +528,11 @@ struct SolveState {
   const Pack vn = rowVelocity(st.a, st.b, st.n, at(p.rnA), at(p.rnB));
   const Pack accumulated = at(p.normalImpulse);
   const Pack impulse0 = -at(p.normalMass) * massScale * (vn + bias) - impulseScale * accumulated;
-  const Pack updated = max(accumulated + impulse0, zero);
+  Pack updated = max(accumulated + impulse0, zero);
+  // The relax pass leaves open rows alone: their gap closes, if at all, in a later substep,
+  // whose solve pass stops it there. Slowing the approach now would take the speed that
+  // restitution gives back at the impact.
+  if (!mode.useBias) updated = select(open, accumulated, updated);
   const Pack impulse = updated - accumulated;
   at.store(updated, p.normalImpulse);
   at.store(max(at(p.maxNormalImpulse), impulse), p.maxNormalImpulse);
@@ -601,17 +605,41 @@ void solveSlices(WideConstraint* const (&cs)[N], const Slice& at, SolverBody* bo
   }
 }
 
-void updateApproachSlice(WideConstraint& c, const Slice& at, const SolverBody* bodies) {
+// Points of a bouncy constraint whose gap is still open and that have not pushed yet: their
+// approach is measured in the substep in which they touch (updateApproachSlice).
+[[gnu::always_inline]] inline Mask approaching(const WideConstraint& c, const WidePoint& p,
+                                               const Slice& at) {
+  return (at(c.restitution) != Pack::zero()) & (at(p.maxNormalImpulse) == Pack::zero()) &
+         (at(p.separation) > Pack::zero());
+}
+
+// Before a substep's velocity update: such points keep their normal velocity v0.
+void beginApproachSlice(WideConstraint& c, const Slice& at, const SolverBody* bodies) {
+  const Side a = gather(c.bodyA, at, bodies), b = gather(c.bodyB, at, bodies);
+  const V3 n = at(c.normal);
+  for (int i = 0; i < c.pointCount; ++i) {
+    WidePoint& p = c.points[std::size_t(i)];
+    at.store(select(approaching(c, p, at), rowVelocity(a, b, n, at(p.rnA), at(p.rnB)),
+                    at(p.relativeVelocity)),
+             p.relativeVelocity);
+  }
+}
+
+// After it (v1): the normal velocity at which the gap s closes under the substep's constant
+// normal acceleration a = (v1 - v0) / h, v^2 = v0^2 - 2 a s, whatever the time of the impact
+// within the substep (the velocity of the whole substep, v1, is up to |a| h off).
+void updateApproachSlice(WideConstraint& c, const Slice& at, const SolverBody* bodies, Real invH) {
   const Side a = gather(c.bodyA, at, bodies), b = gather(c.bodyB, at, bodies);
   const V3 n = at(c.normal);
   const Pack zero = Pack::zero();
-  const Mask bouncy = at(c.restitution) != zero;
   for (int i = 0; i < c.pointCount; ++i) {
     WidePoint& p = c.points[std::size_t(i)];
-    const Mask take =
-        bouncy & (at(p.maxNormalImpulse) == zero) & (at(p.separation) > zero);
-    at.store(select(take, rowVelocity(a, b, n, at(p.rnA), at(p.rnB)), at(p.relativeVelocity)),
-             p.relativeVelocity);
+    const Pack v0 = at(p.relativeVelocity);
+    const Pack v1 = rowVelocity(a, b, n, at(p.rnA), at(p.rnB));
+    const Pack accel = (v1 - v0) * Pack::splat(invH);
+    const Pack squared = v0 * v0 - (accel + accel) * at(p.separation);
+    const Pack impact = select(v1 < zero, zero - sqrt(max(squared, zero)), v1);
+    at.store(select(approaching(c, p, at), impact, v0), p.relativeVelocity);
   }
 }
 
@@ -733,10 +761,16 @@ void solveRange(WideConstraint* c, std::size_t count, SolverBody* bodies, const 
     });
   }
 }
-void updateApproachRange(WideConstraint* c, std::size_t count, const SolverBody* bodies) {
+void beginApproachRange(WideConstraint* c, std::size_t count, const SolverBody* bodies) {
   for (std::size_t k = 0; k < count; ++k)
     if (c[k].bouncy)
-      forSlices(c[k], [&](const Slice& at) { updateApproachSlice(c[k], at, bodies); });
+      forSlices(c[k], [&](const Slice& at) { beginApproachSlice(c[k], at, bodies); });
+}
+void updateApproachRange(WideConstraint* c, std::size_t count, const SolverBody* bodies,
+                         Real invH) {
+  for (std::size_t k = 0; k < count; ++k)
+    if (c[k].bouncy)
+      forSlices(c[k], [&](const Slice& at) { updateApproachSlice(c[k], at, bodies, invH); });
 }
 void restitutionRange(WideConstraint* c, std::size_t count, SolverBody* bodies, Real threshold) {
   for (std::size_t k = 0; k < count; ++k)

@@ -98,19 +98,23 @@ struct Kernels {
   void (*prepare)(WideConstraint&, const WideInertia&);
   void (*warmStart)(const WideConstraint*, std::size_t, SolverBody*);
   void (*solve)(WideConstraint*, std::size_t, SolverBody*, const BiasMode&);
-  void (*updateApproach)(WideConstraint*, std::size_t, const SolverBody*);
+  void (*beginApproach)(WideConstraint*, std::size_t, const SolverBody*);
+  void (*updateApproach)(WideConstraint*, std::size_t, const SolverBody*, Real);
   void (*restitution)(WideConstraint*, std::size_t, SolverBody*, Real);
   void (*updateMotion)(WideConstraint*, std::size_t, const SolverBody*);
 };
 
-constexpr Kernels kSse2{sse2::prepareBundle,       sse2::warmStartRange,   sse2::solveRange,
-                        sse2::updateApproachRange, sse2::restitutionRange, sse2::updateMotionRange};
+constexpr Kernels kSse2{sse2::prepareBundle,      sse2::warmStartRange,      sse2::solveRange,
+                        sse2::beginApproachRange, sse2::updateApproachRange, sse2::restitutionRange,
+                        sse2::updateMotionRange};
 #ifdef INERTIA_HAVE_AVX2_KERNELS
-constexpr Kernels kAvx2{avx2::prepareBundle,       avx2::warmStartRange,   avx2::solveRange,
-                        avx2::updateApproachRange, avx2::restitutionRange, avx2::updateMotionRange};
-constexpr Kernels kAvx512{avx512::prepareBundle,    avx512::warmStartRange,
-                          avx512::solveRange,       avx512::updateApproachRange,
-                          avx512::restitutionRange, avx512::updateMotionRange};
+constexpr Kernels kAvx2{avx2::prepareBundle,      avx2::warmStartRange,      avx2::solveRange,
+                        avx2::beginApproachRange, avx2::updateApproachRange, avx2::restitutionRange,
+                        avx2::updateMotionRange};
+constexpr Kernels kAvx512{avx512::prepareBundle,       avx512::warmStartRange,
+                          avx512::solveRange,          avx512::beginApproachRange,
+                          avx512::updateApproachRange, avx512::restitutionRange,
+                          avx512::updateMotionRange};
 #endif
 
 SimdChoice& contactChoice() {
@@ -320,10 +324,18 @@ void ContactBundles::solve(SolverBody* bodies, const BiasMode& mode, std::uint32
   kernels().solve(bundles_.data() + first, count, bodies, mode);
 }
 
-void ContactBundles::updateApproach(const std::vector<SolverBody>& bodies, StepWorkers& workers) {
+void ContactBundles::beginApproach(const std::vector<SolverBody>& bodies, StepWorkers& workers) {
   const Kernels& k = kernels();
   forAll(workers, [&](std::uint32_t first, std::size_t count) {
-    k.updateApproach(bundles_.data() + first, count, bodies.data());
+    k.beginApproach(bundles_.data() + first, count, bodies.data());
+  });
+}
+
+void ContactBundles::updateApproach(const std::vector<SolverBody>& bodies, Real h,
+                                    StepWorkers& workers) {
+  const Kernels& k = kernels();
+  forAll(workers, [&](std::uint32_t first, std::size_t count) {
+    k.updateApproach(bundles_.data() + first, count, bodies.data(), 1 / h);
   });
 }
 
@@ -378,8 +390,12 @@ void ContactBundles::solve(std::vector<SolverBody>& bodies, const BiasMode& mode
   StepWorkers::run(arena, [&](StepWorkers& w) { solve(bodies, mode, w); });
 }
 
-void ContactBundles::updateApproach(const std::vector<SolverBody>& bodies) {
-  StepWorkers::run(nullptr, [&](StepWorkers& w) { updateApproach(bodies, w); });
+void ContactBundles::beginApproach(const std::vector<SolverBody>& bodies) {
+  StepWorkers::run(nullptr, [&](StepWorkers& w) { beginApproach(bodies, w); });
+}
+
+void ContactBundles::updateApproach(const std::vector<SolverBody>& bodies, Real h) {
+  StepWorkers::run(nullptr, [&](StepWorkers& w) { updateApproach(bodies, h, w); });
 }
 
 void ContactBundles::applyRestitution(std::vector<SolverBody>& bodies, Real threshold,
@@ -414,8 +430,13 @@ void solve(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
   runSequential(cs, bodies, [&](ContactBundles& b) { b.solve(bodies, mode, nullptr); });
 }
 
-void updateApproach(std::vector<ContactConstraint>& cs, const std::vector<SolverBody>& bodies) {
-  runSequential(cs, bodies, [&](ContactBundles& b) { b.updateApproach(bodies); });
+void beginApproach(std::vector<ContactConstraint>& cs, const std::vector<SolverBody>& bodies) {
+  runSequential(cs, bodies, [&](ContactBundles& b) { b.beginApproach(bodies); });
+}
+
+void updateApproach(std::vector<ContactConstraint>& cs, const std::vector<SolverBody>& bodies,
+                    Real h) {
+  runSequential(cs, bodies, [&](ContactBundles& b) { b.updateApproach(bodies, h); });
 }
 
 void applyRestitution(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,

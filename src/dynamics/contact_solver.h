@@ -49,7 +49,9 @@ struct ConstraintPoint {
   Real normalImpulse = 0;
   std::array<Real, 2> tangentImpulse{};
   Real maxNormalImpulse = 0;
-  Real relativeVelocity = 0;  ///< Normal velocity at the step's start (m/s), for restitution.
+  /// Normal velocity (m/s): at the step's start, then the approach speed at impact
+  /// (ContactBundles::updateApproach), for restitution.
+  Real relativeVelocity = 0;
 };
 
 struct ContactConstraint {
@@ -201,10 +203,15 @@ class ContactBundles {
   void warmStart(std::vector<SolverBody>& bodies, StepWorkers& workers) const;
   /// One Gauss-Seidel pass over every constraint.
   void solve(std::vector<SolverBody>& bodies, const BiasMode& mode, StepWorkers& workers);
-  /// Before a substep's iterations: points whose gap is still open take the current normal
-  /// velocity as their approach speed, so restitution uses the speed at impact rather than at
-  /// the step's start (which lags by up to g dt). Only constraints with restitution.
-  void updateApproach(const std::vector<SolverBody>& bodies, StepWorkers& workers);
+  /// The approach speed at impact, for restitution, of the points whose gap is still open and
+  /// that have not pushed yet (only constraints with restitution): beginApproach() keeps their
+  /// normal velocity v0 before a substep's velocity update, and updateApproach() after it (v1)
+  /// makes it the speed at which the gap s closes under the substep's normal acceleration
+  /// a = (v1 - v0) / h: v^2 = v0^2 - 2 a s. A point keeps the value of the substep in which it
+  /// first pushes, i.e. touches. (The substep's velocity v1 would be up to |a| h off, and the
+  /// step's start velocity up to |a| dt.)
+  void beginApproach(const std::vector<SolverBody>& bodies, StepWorkers& workers);
+  void updateApproach(const std::vector<SolverBody>& bodies, Real h, StepWorkers& workers);
   /// Newton's impact law after the substeps: points that approached faster than `threshold`
   /// (m/s) and carried an impulse leave with restitution times their approach speed.
   void applyRestitution(std::vector<SolverBody>& bodies, Real threshold, StepWorkers& workers);
@@ -229,7 +236,8 @@ class ContactBundles {
   void updateMotion(const std::vector<SolverBody>& bodies);
   void warmStart(std::vector<SolverBody>& bodies, tbb::task_arena* arena) const;
   void solve(std::vector<SolverBody>& bodies, const BiasMode& mode, tbb::task_arena* arena);
-  void updateApproach(const std::vector<SolverBody>& bodies);
+  void beginApproach(const std::vector<SolverBody>& bodies);
+  void updateApproach(const std::vector<SolverBody>& bodies, Real h);
   void applyRestitution(std::vector<SolverBody>& bodies, Real threshold, tbb::task_arena* arena);
   void store(std::vector<ContactConstraint>& cs) const;
 
@@ -264,7 +272,9 @@ SimdLevel setContactSimd(SimdLevel level);
 void warmStart(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies);
 void solve(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
            const BiasMode& mode);
-void updateApproach(std::vector<ContactConstraint>& cs, const std::vector<SolverBody>& bodies);
+void beginApproach(std::vector<ContactConstraint>& cs, const std::vector<SolverBody>& bodies);
+void updateApproach(std::vector<ContactConstraint>& cs, const std::vector<SolverBody>& bodies,
+                    Real h);
 void applyRestitution(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
                       Real threshold);
 

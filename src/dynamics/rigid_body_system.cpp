@@ -56,6 +56,17 @@ constexpr std::array<SolverEntry, 4> kSolvers{{{SolverType::SoftStep, "soft_step
                                                {SolverType::LcpDantzig, "lcp_dantzig"},
                                                {SolverType::LcpLemke, "lcp_lemke"}}};
 
+// Eigen's 3x3 inverse divides the cofactors by the determinant, the cube of the inertia's
+// scale: in float it underflows to zero below about 2e-13 kg m^2 (a sphere of water 0.3 mm
+// across) and the inverse is infinite or NaN. Scaled by a power of two near its largest
+// entry first, and the result back: exact, so the same bits wherever nothing underflowed.
+Mat3 inverseInertia(const Mat3& inertia) {
+  int exponent = 0;
+  std::frexp(inertia.cwiseAbs().maxCoeff(), &exponent);
+  const Real scale = std::ldexp(Real(1), -exponent);
+  return (inertia * scale).inverse() * scale;
+}
+
 }  // namespace
 
 std::string_view solverName(SolverType type) {
@@ -130,7 +141,7 @@ void Data::updateMass(BodyRecord& b) {
     b.localCom = props.centerOfMass;
     b.inertiaLocal = Real(0.5) * (props.inertia + props.inertia.transpose());
     b.isotropic = b.inertiaLocal == Mat3::Identity() * b.inertiaLocal(0, 0);
-    b.invInertiaLocal = b.inertiaLocal.inverse();
+    b.invInertiaLocal = inverseInertia(b.inertiaLocal);
     // Principal axes for the free-rotation splitting (a proper rotation).
     Eigen::SelfAdjointEigenSolver<Mat3> eig(b.inertiaLocal);
     Mat3 axes = eig.eigenvectors();

@@ -199,8 +199,8 @@ void forEachColor(Data& D, StepWorkers& workers, JointFn joint, ContactFn contac
   }
 }
 
-void warmStart(Data& D, int stamp, StepWorkers& workers) {
-  D.bundles.updateApproach(D.solverBodies, workers);
+void warmStart(Data& D, int stamp, Real h, StepWorkers& workers) {
+  D.bundles.updateApproach(D.solverBodies, h, workers);
   forEachColor(
       D, workers,
       [&](std::uint32_t k) { warmStartJoint(D, D.jointConstraints[k], D.solverBodies, stamp); },
@@ -402,15 +402,20 @@ double solveSubsteps(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
   for (int sub = 0; sub < s.substeps; ++sub) {
     jointSolve.stamp = 2 * sub;
     jointRelax.stamp = 2 * sub + 1;
+    // The normal velocities before the velocity update, for the approach speed at impact.
+    if (lcp)
+      beginApproach(D.constraints, D.solverBodies);
+    else
+      D.bundles.beginApproach(D.solverBodies, workers);
     auto ti = Clock::now();
     integrateVelocities(D, h, workers);
     integrationTime += std::chrono::duration<double>(Clock::now() - ti).count();
     if (lcp) {
       // Direct LCP per island in place of the warm start and iterations (lcp_contact.h).
-      updateApproach(D.constraints, D.solverBodies);
+      updateApproach(D.constraints, D.solverBodies, h);
       solveIslandsLcp(D, mode, jointSolve, lcpMethod, s.solver.iterations);
     } else {
-      warmStart(D, jointSolve.stamp, workers);
+      warmStart(D, jointSolve.stamp, h, workers);
       solve(D, mode, jointSolve, s.solver.iterations, workers);
     }
     ti = Clock::now();

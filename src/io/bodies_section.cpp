@@ -88,8 +88,9 @@ void readGenerator(const Node& n, const std::string& type, const MaterialTable& 
   std::vector<BodyDesc> made;
   try {
     if (type == "pyramid") {
-      n.requireObject({"type", "base", "half_extents", "position", "gap", "material"});
+      n.requireObject({"type", "name", "base", "half_extents", "position", "gap", "material"});
       PyramidSettings s;
+      if (n.has("name")) s.name = n.at("name").string();
       s.base = int(n.at("base").integer(1, 1000));
       s.halfExtents = readHalfExtents(n, s.halfExtents);
       s.origin = origin;
@@ -97,16 +98,19 @@ void readGenerator(const Node& n, const std::string& type, const MaterialTable& 
       s.material = material;
       made = pyramid(s);
     } else if (type == "tower") {
-      n.requireObject({"type", "height", "half_extents", "position", "material"});
+      n.requireObject({"type", "name", "height", "half_extents", "position", "material"});
       TowerSettings s;
+      if (n.has("name")) s.name = n.at("name").string();
       s.height = int(n.at("height").integer(1, 100000));
       s.halfExtents = readHalfExtents(n, s.halfExtents);
       s.origin = origin;
       s.material = material;
       made = tower(s);
     } else if (type == "wall") {
-      n.requireObject({"type", "rows", "columns", "half_extents", "position", "staggered", "material"});
+      n.requireObject(
+          {"type", "name", "rows", "columns", "half_extents", "position", "staggered", "material"});
       WallSettings s;
+      if (n.has("name")) s.name = n.at("name").string();
       s.rows = int(n.at("rows").integer(1, 10000));
       s.columns = int(n.at("columns").integer(1, 10000));
       s.halfExtents = readHalfExtents(n, s.halfExtents);
@@ -115,8 +119,9 @@ void readGenerator(const Node& n, const std::string& type, const MaterialTable& 
       s.material = material;
       made = wall(s);
     } else if (type == "grid") {
-      n.requireObject({"type", "counts", "spacing", "position", "shape", "material"});
+      n.requireObject({"type", "name", "counts", "spacing", "position", "shape", "material"});
       GridSettings s;
+      if (n.has("name")) s.name = n.at("name").string();
       Node counts = n.at("counts");
       if (counts.requireArray() != 3) counts.fail("expected [nx, ny, nz]");
       long long total = 1;
@@ -135,8 +140,9 @@ void readGenerator(const Node& n, const std::string& type, const MaterialTable& 
       s.material = material;
       made = grid(s);
     } else if (type == "rain") {
-      n.requireObject({"type", "count", "lower", "upper", "shape", "material", "seed"});
+      n.requireObject({"type", "name", "count", "lower", "upper", "shape", "material", "seed"});
       RainSettings s;
+      if (n.has("name")) s.name = n.at("name").string();
       s.count = int(n.at("count").integer(1, 1000000));
       s.lower = n.at("lower").vec3();
       s.upper = n.at("upper").vec3();

@@ -27,17 +27,13 @@ void requireKeys(const Node& n, std::initializer_list<std::string_view> own) {
   n.requireObject(all);
 }
 
-// A body by its "name" in "bodies": its index.
+// A body by its "name" in "bodies" (unique: parseScene checks): its index.
 std::size_t readBody(const Node& n, const std::vector<BodyDesc>& bodies) {
   if (!n.json().is_string()) n.fail("expected a body's name (a string), got " + typeName(n.json()));
   const std::string name = n.string();
-  std::size_t found = 0, matches = 0;
   for (std::size_t i = 0; i < bodies.size(); ++i)
-    if (bodies[i].settings.name == name) found = i, ++matches;
-  if (matches == 0) n.fail("no body is named \"" + name + "\"");
-  if (matches > 1)
-    n.fail(std::to_string(matches) + " bodies are named \"" + name + "\"; the name must be unique");
-  return found;
+    if (bodies[i].settings.name == name) return i;
+  n.fail("no body is named \"" + name + "\"");
 }
 
 // A number >= 0 in `unit`: friction, forces, lengths.

@@ -1,5 +1,6 @@
 #include "particles_section.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -91,14 +92,14 @@ EmitterSettings readEmitter(const Node& n, Real defaultSize, const std::vector<B
     n.fail("\"vertices\" and \"triangles\" belong to mesh emitters only");
   }
   if (n.has("attach_to")) {
-    // A body of the scene by name; the emitter's position and orientation are then relative to
-    // the body's origin. io::instantiate() turns the name into the body's id.
+    // A body of the scene by name (unique: parseScene checks); the emitter's position and
+    // orientation are then relative to the body's origin. io::instantiate() turns the name
+    // into the body's id.
     Node a = n.at("attach_to");
     const std::string name = a.string();
-    std::size_t matches = 0;
-    for (const BodyDesc& b : bodies) matches += b.settings.name == name ? 1 : 0;
-    if (matches == 0) a.fail("no body is named \"" + name + "\"");
-    if (matches > 1) a.fail(std::to_string(matches) + " bodies are named \"" + name + "\"; the name must be unique");
+    if (std::none_of(bodies.begin(), bodies.end(),
+                     [&](const BodyDesc& b) { return b.settings.name == name; }))
+      a.fail("no body is named \"" + name + "\"");
     e.attachToName = name;
   }
   checked(n, [&] { validate(e); });

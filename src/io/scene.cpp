@@ -1,7 +1,9 @@
 #include "inertia/io/scene.h"
 
 #include <fstream>
+#include <map>
 #include <sstream>
+#include <variant>
 
 #include "bodies_section.h"
 #include "inertia/core/error.h"
@@ -78,6 +80,32 @@ void requireEmpty(const Node& root, std::string_view key, bool isObject, const c
   }
 }
 
+// Names identify bodies, joints and particle systems in recordings, and bodies in the
+// references of joints and emitters: each must be unique among its kind. `seen` maps each name
+// to the JSON pointer of what has it; a second one fails at `n` (its "name" when it has one).
+class UniqueNames {
+ public:
+  UniqueNames(std::string kind, std::string plural)
+      : kind_(std::move(kind)), plural_(std::move(plural)) {}
+  void add(const Node& n, const std::string& name) {
+    const auto [it, added] = seen_.emplace(name, n.pointer().to_string());
+    if (added) return;
+    const bool named = n.has("name");
+    (named ? n.at("name") : n)
+        .fail("duplicate " + kind_ + " name \"" + name + "\"" +
+              (named ? "" : " (a name made for it, as it has no \"name\")") + ", already " +
+              it->second + "'s: names tell " + plural_ + " apart in recordings and references");
+  }
+
+ private:
+  std::string kind_, plural_;
+  std::map<std::string, std::string> seen_;
+};
+
+std::string jointName(const AnyJointSettings& settings) {
+  return std::visit([](const auto& s) { return s.name; }, settings);
+}
+
 }  // namespace
 
 Scene parseScene(const std::string& text, const std::filesystem::path& name) {
@@ -120,20 +148,33 @@ Scene parseScene(const std::string& text, const std::filesystem::path& name) {
   if (n.has("camera")) scene.camera = readCamera(n.at("camera"));
   detail::MaterialTable materials;
   if (n.has("materials")) materials = detail::readMaterials(n.at("materials"));
+  // A generator's bodies and joints are named by it: a clash names the generator.
+  UniqueNames bodyNames("body", "bodies"), jointNames("joint", "joints"),
+      systemNames("particle system", "particle systems");
   if (n.has("bodies")) {
     Node list = n.at("bodies");
-    for (std::size_t i = 0; i < list.requireArray(); ++i)
+    for (std::size_t i = 0; i < list.requireArray(); ++i) {
+      const std::size_t bodies = scene.bodies.size(), joints = scene.joints.size();
       detail::readBodies(list.at(i), i, materials, scene);
+      for (std::size_t b = bodies; b < scene.bodies.size(); ++b)
+        bodyNames.add(list.at(i), scene.bodies[b].settings.name);
+      for (std::size_t j = joints; j < scene.joints.size(); ++j)
+        jointNames.add(list.at(i), jointName(scene.joints[j].settings));
+    }
   }
   if (n.has("joints")) {
     Node list = n.at("joints");
-    for (std::size_t i = 0; i < list.requireArray(); ++i)
+    for (std::size_t i = 0; i < list.requireArray(); ++i) {
       scene.joints.push_back(detail::readJoint(list.at(i), i, scene.bodies));
+      jointNames.add(list.at(i), jointName(scene.joints.back().settings));
+    }
   }
   if (n.has("particle_systems")) {
     Node list = n.at("particle_systems");
-    for (std::size_t i = 0; i < list.requireArray(); ++i)
+    for (std::size_t i = 0; i < list.requireArray(); ++i) {
       scene.particleSystems.push_back(detail::readParticleSystem(list.at(i), i, scene.bodies));
+      systemNames.add(list.at(i), scene.particleSystems.back().settings.name);
+    }
   }
   requireEmpty(n, "deformables", false, "deformables");
   return scene;

@@ -180,16 +180,17 @@ std::int64_t Emitter::emit(ParticlePool& pool, Real h) {
     spawn.radius = sample(settings_.size);
     const Real blend = uniform();
     spawn.color = settings_.colorMin + blend * (settings_.colorMax - settings_.colorMin);
-    // Spread the step's particles over the step, as if emitted continuously.
-    spawn.age = uniform() * h;
-    spawn.position = settings_.pose.apply(p) + spawn.velocity * spawn.age;
+    // Spread the step's particles over the step, as if emitted continuously: emitted at
+    // h (1 - u) after the step's start, a particle is h u old at its end, in (0, h]. It is
+    // placed where it leaves the emitter; the system's step moves it through its age.
+    spawn.age = (1 - uniform()) * h;
+    spawn.position = settings_.pose.apply(p);
     if (carried_) {
-      // The carrier's velocity at the emission point (a rigid body's v + w x r) is added. The
-      // particle left the carrier `age` ago where the emission point then was, so it is ahead
-      // of the point's present position by its own velocity times its age only.
-      const Vec3 at = settings_.pose.apply(p);
-      spawn.velocity = own + (carrierLinear_ + carrierAngular_.cross(at - carrierCenter_));
-      spawn.position = at + own * spawn.age;
+      // The carrier's velocity at the emission point (a rigid body's v + w x r) is added, and
+      // the point has moved with it from the step's start until the emission.
+      const Vec3 carrier = carrierLinear_ + carrierAngular_.cross(spawn.position - carrierCenter_);
+      spawn.velocity = own + carrier;
+      spawn.position += carrier * (h - spawn.age);
     }
     pool.add(spawn);
     ++emitted;

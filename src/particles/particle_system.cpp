@@ -168,6 +168,10 @@ struct ParticleSystem::Scratch {
   std::vector<std::array<ode::Vector<Real>, 3>> probes;  // per batch: backward Euler's probes
   std::vector<std::uint8_t> dead;
   std::vector<std::size_t> deaths;  // per batch, summed after the pass
+  // The particles emitted during a step, advanced one by one in chunks of kBatch.
+  std::vector<ode::Workspace<Real>> freshWorkspaces;
+  std::vector<std::array<ode::Vector<Real>, 3>> freshProbes;
+  std::vector<std::size_t> freshDeaths;
   // Particle-particle collisions.
   UniformGrid grid;
   std::vector<Real> snapshotX, snapshotV;
@@ -187,6 +191,9 @@ ParticleSystem::ParticleSystem(const ParticleSystemSettings& s)
   if (s.integrator == ode::Method::BackwardEuler) w.probes.resize(w.workspaces.size());
   w.dead.resize(s.capacity);
   w.deaths.resize(w.workspaces.size());
+  w.freshWorkspaces.resize(w.workspaces.size());
+  w.freshProbes.resize(w.probes.size());
+  w.freshDeaths.resize(w.workspaces.size());
 }
 
 ParticleSystem::~ParticleSystem() = default;
@@ -327,13 +334,16 @@ void ParticleSystem::step(Real h, ThreadPool* pool) {
 void ParticleSystem::step(Real h, detail::StepWorkers& workers) {
   require(std::isfinite(h) && h > 0, "ParticleSystem::step: h must be finite and > 0 (s)");
   {
-    for (Emitter& e : emitters_) stats_.emitted += e.emit(pool_, h);
+    // The particles alive at the step's start move through the whole step; those emitted
+    // during it, only from their emission on (Emitter::emit).
+    const std::size_t old = pool_.size();
     if (!springs_.empty()) resolveSprings();
     integrate(h, workers);
+    for (Emitter& e : emitters_) stats_.emitted += e.emit(pool_, h);
+    std::size_t deaths = advanceEmitted(old, h, workers);
     if (settings_.particleCollisions) collideParticles(workers);
     const std::size_t n = pool_.size();
-    std::size_t deaths = 0;
-    const std::size_t batches = (n + kBatch - 1) / kBatch;
+    const std::size_t batches = (old + kBatch - 1) / kBatch;
     for (std::size_t b = 0; b < batches; ++b) deaths += scratch_->deaths[b];
     // The compaction reads every flag: skip it when the pass counted no death. The fused kernel
     // writes only the flags of deaths (a step of immortal particles writes none of the 1 MB a
@@ -349,181 +359,244 @@ void ParticleSystem::step(Real h, detail::StepWorkers& workers) {
   }
 }
 
-void ParticleSystem::integrate(Real h, detail::StepWorkers& workers) {
-  Scratch& w = *scratch_;
-  const std::size_t n = pool_.size();
-  if (n == 0) return;
-  const Real t = Real(time_);
-  const bool coupled = !springs_.empty();
-  const bool collide = !obstacleCache_.empty();
-  if (coupled) {
-    // The whole pool moves at once: keep every start position for the swept tests.
-    if (collide) std::copy_n(pool_.positions().data(), 3 * n, w.previous.data());
-    integrateCoupled(h, workers);
-  }
+// What a step decides once for all its batches: the path (the fused symplectic Euler kernel or
+// ode::step), the fields the kernel sums itself and the obstacles it filters against.
+struct ParticleSystem::StepPlan {
+  bool coupled = false;  // springs: the pool was integrated as one system, start positions in
+                         // Scratch::previous
+  bool collide = false;
+  bool fused = false;
+  bool inKernel = false;
+  bool nearInKernel = false;
+  detail::SimdLevel isa = detail::SimdLevel::Scalar;
+  detail::ParticleFieldTerm terms[detail::kMaxParticleTerms];
+  std::size_t termCount = 0;
+  detail::ParticleNearTest tests[detail::kMaxParticleStepTests];
+};
+
+ParticleSystem::StepPlan ParticleSystem::makePlan(bool coupled) const {
+  StepPlan plan;
+  plan.coupled = coupled;
+  plan.collide = !obstacleCache_.empty();
   // Symplectic Euler, the default, takes a fused path: one kernel per batch does what
   // ode::symplecticEuler does (v += h a, then x += h v, element by element: the same bits),
   // keeps the start positions, ages the particles and lists those near an obstacle, in one pass
   // over the batch's arrays. Gravity and linear drag without regions (the usual fields) are
   // summed inside the kernel; other fields are evaluated into a batch buffer first by the same
   // applyFields() the ode layer's callback calls. The other methods go through ode::step.
-  const bool fused = !coupled && settings_.integrator == ode::Method::SymplecticEuler;
-  const detail::SimdLevel isa = detail::particleSimd();
-  detail::ParticleFieldTerm terms[detail::kMaxParticleTerms];
-  std::size_t termCount = 0;
-  bool inKernel = fields_.size() <= detail::kMaxParticleTerms;
-  for (std::size_t k = 0; inKernel && k < fields_.size(); ++k) {
+  plan.fused = !coupled && settings_.integrator == ode::Method::SymplecticEuler;
+  plan.isa = detail::particleSimd();
+  plan.inKernel = fields_.size() <= detail::kMaxParticleTerms;
+  for (std::size_t k = 0; plan.inKernel && k < fields_.size(); ++k) {
     const auto* g = std::get_if<GravityField>(&fields_[k].field);
     const auto* d = std::get_if<LinearDragField>(&fields_[k].field);
-    inKernel = !fields_[k].region && (g || d);
+    plan.inKernel = !fields_[k].region && (g || d);
     if (g)
-      terms[termCount++] = {
+      plan.terms[plan.termCount++] = {
           .gravity = true, .g0 = g->g[0], .g1 = g->g[1], .g2 = g->g[2], .negK = 0};
-    if (d) terms[termCount++] = {.gravity = false, .g0 = 0, .g1 = 0, .g2 = 0, .negK = -d->k};
+    if (d)
+      plan.terms[plan.termCount++] = {.gravity = false, .g0 = 0, .g1 = 0, .g2 = 0, .negK = -d->k};
   }
   // With few obstacles the kernel filters against all of them; with more, collideObstacles()
   // first culls them by each batch's box, which needs the whole batch moved.
-  detail::ParticleNearTest tests[detail::kMaxParticleStepTests];
-  const bool nearInKernel = collide && obstacleCache_.size() <= detail::kMaxParticleStepTests;
-  if (nearInKernel)
-    for (std::size_t k = 0; k < obstacleCache_.size(); ++k) tests[k] = nearTest(obstacleCache_[k]);
+  plan.nearInKernel = plan.collide && obstacleCache_.size() <= detail::kMaxParticleStepTests;
+  if (plan.nearInKernel)
+    for (std::size_t k = 0; k < obstacleCache_.size(); ++k)
+      plan.tests[k] = nearTest(obstacleCache_[k]);
+  return plan;
+}
 
+void ParticleSystem::integrate(Real h, detail::StepWorkers& workers) {
+  Scratch& w = *scratch_;
+  const std::size_t n = pool_.size();
+  if (n == 0) return;
+  const bool coupled = !springs_.empty();
+  if (coupled) {
+    // The whole pool moves at once: keep every start position for the swept tests.
+    if (!obstacleCache_.empty()) std::copy_n(pool_.positions().data(), 3 * n, w.previous.data());
+    integrateCoupled(h, workers);
+  }
+  const StepPlan plan = makePlan(coupled);
   const std::size_t batches = (n + kBatch - 1) / kBatch;
-  workers.parallelFor(
-      batches, 1, [&](std::size_t first, std::size_t last) {
-        for (std::size_t b = first; b != last; ++b) {
-          const std::size_t begin = b * kBatch, count = std::min(kBatch, n - begin);
-          std::span<Real> x = pool_.positions().subspan(3 * begin, 3 * count);
-          std::span<Real> v = pool_.velocities().subspan(3 * begin, 3 * count);
-          const auto m = pool_.masses().subspan(begin, count);
-          // The batch's start positions for the swept tests, on the stack (24 KiB): they stay in
-          // cache between integration and collision instead of streaming through memory.
-          Real start[3 * kBatch];
-          const Real* previous = coupled ? w.previous.data() + 3 * begin : start;
-          if (fused) {
-            Real acc[3 * kBatch];
-            if (!inKernel) {
-              // The accelerations start at zero and the fields add to them. A leading gravity
-              // field without a region adds the same g to all: start from 0 + g instead (the
-              // same bits, one pass fewer).
-              std::span<const ForceField> rest = fields_;
-              const GravityField* g = fields_.empty() || fields_[0].region
-                                          ? nullptr
-                                          : std::get_if<GravityField>(&fields_[0].field);
-              if (g) {
-                const Real g0 = Real(0) + g->g[0], g1 = Real(0) + g->g[1], g2 = Real(0) + g->g[2];
-                for (std::size_t i = 0; i < count; ++i) {
-                  acc[3 * i] = g0;
-                  acc[3 * i + 1] = g1;
-                  acc[3 * i + 2] = g2;
-                }
-                rest = rest.subspan(1);
-              } else {
-                std::fill_n(acc, 3 * count, Real(0));
-              }
-              applyFields(rest, FieldBatch{t, x, v, m, {acc, 3 * count}});
-            }
-            std::uint16_t near[kBatch];
-            detail::ParticleStepBatch batch{.count = count,
-                                            .h = h,
-                                            .x = x.data(),
-                                            .v = v.data(),
-                                            .m = m.data(),
-                                            .age = pool_.ages().data() + begin,
-                                            .life = pool_.lifetimes().data() + begin,
-                                            .radius = pool_.radii().data() + begin,
-                                            .acc = inKernel ? nullptr : acc,
-                                            .terms = terms,
-                                            .termCount = termCount,
-                                            .start = start,
-                                            .dead = w.dead.data() + begin,
-                                            .tests = nearInKernel ? tests : nullptr,
-                                            .testCount = nearInKernel ? obstacleCache_.size() : 0,
-                                            .list = near};
-            if (b + 1 < batches) {
-              const std::size_t next = begin + kBatch;
-              batch.next[0] = pool_.positions().data() + 3 * next;
-              batch.next[1] = pool_.velocities().data() + 3 * next;
-              batch.next[2] = pool_.masses().data() + next;
-              batch.next[3] = pool_.ages().data() + next;
-              batch.next[4] = pool_.lifetimes().data() + next;
-              batch.next[5] = pool_.radii().data() + next;
-              batch.nextCount = std::min(kBatch, n - next);
-            }
-            const detail::ParticleStepCounts counts = detail::stepParticleBatch(isa, batch);
-            w.deaths[b] = counts.deaths;
-            if (nearInKernel)
-              collideObstacles(begin, begin + count, start, near, counts.listed);
-            else if (collide)
-              collideObstacles(begin, begin + count, start);
-            continue;
-          } else if (!coupled) {
-            if (collide) std::copy_n(x.data(), 3 * count, start);
-            auto accel = [&](Real time, ode::ConstView<Real> xs, ode::ConstView<Real> vs,
-                             ode::View<Real> a) {
-              a.setZero();
-              applyFields(fields_, FieldBatch{time, {xs.data(), std::size_t(xs.size())},
-                                              {vs.data(), std::size_t(vs.size())}, m,
-                                              {a.data(), std::size_t(a.size())}});
-            };
-            if (settings_.integrator == ode::Method::BackwardEuler) {
-              // Matrix-free Jacobian products by forward differences of the fields, and
-              // BiCGSTAB: attractors and vortices give non-symmetric Jacobians. The probe
-              // buffers are the batch's own, grown once.
-              auto& probe = w.probes[b];
-              auto product = [&](bool wrtX) {
-                return [&, wrtX](Real time, ode::ConstView<Real> xs, ode::ConstView<Real> vs,
-                                 ode::ConstView<Real> dir, ode::View<Real> out) {
-                  const Eigen::Index size = xs.size();
-                  for (auto& buffer : probe) buffer.resize(size);
-                  const Real scale = std::sqrt(std::numeric_limits<Real>::epsilon()) *
-                                     (1 + (wrtX ? xs : vs).norm()) / std::max(dir.norm(), Real(1e-30));
-                  probe[0] = (wrtX ? xs : vs) + scale * dir;
-                  ode::View<Real> base(probe[1].data(), size), moved(probe[2].data(), size);
-                  const ode::ConstView<Real> shifted(probe[0].data(), size);
-                  accel(time, xs, vs, base);
-                  if (wrtX) accel(time, shifted, vs, moved);
-                  else accel(time, xs, shifted, moved);
-                  out = (moved - base) / scale;
-                };
-              };
-              // Template arguments spelled out: clang before 17 has no aggregate deduction.
-              auto dadx = product(true), dadv = product(false);
-              ode::SecondOrderSystem<decltype(accel), decltype(dadx), decltype(dadv)> system{
-                  accel, dadx, dadv};
-              ode::step(settings_.integrator, system, t, h, x, v, w.workspaces[b],
-                        ode::LinearSolverOptions<Real>{.solver = ode::LinearSolver::BiCgStab});
-            } else {
-              ode::step(settings_.integrator, accel, t, h, x, v, w.workspaces[b]);
-            }
-          }
-          Real* age = pool_.ages().data() + begin;
-          const Real* life = pool_.lifetimes().data() + begin;
-          std::uint8_t* dead = w.dead.data() + begin;
-          std::size_t deaths = 0, i = 0;
-#if INERTIA_PARTICLES_SSE
-          {
-            const __m128 step = _mm_set1_ps(h);
-            for (; i + 4 <= count; i += 4) {
-              const __m128 a = _mm_add_ps(_mm_loadu_ps(age + i), step);
-              _mm_storeu_ps(age + i, a);
-              const unsigned mask = unsigned(_mm_movemask_ps(_mm_cmpge_ps(a, _mm_loadu_ps(life + i))));
-              std::memcpy(dead + i, &kMaskBytes[mask], 4);
-              deaths += std::size_t((0x4332322132212110ull >> (4 * mask)) & 0xF);  // popcount
-            }
-          }
-#endif
-          for (; i < count; ++i) {
-            const Real a = age[i] + h;
-            age[i] = a;
-            const bool d = a >= life[i];
-            dead[i] = d;
-            deaths += d;
-          }
-          w.deaths[b] = deaths;
-          if (collide) collideObstacles(begin, begin + count, previous);
+  workers.parallelFor(batches, 1, [&](std::size_t first, std::size_t last) {
+    for (std::size_t b = first; b != last; ++b) {
+      const std::size_t begin = b * kBatch, count = std::min(kBatch, n - begin);
+      w.deaths[b] = integrateBatch(plan, b, false, begin, count, h, Real(time_));
+    }
+  });
+}
+
+// Particles emitted during the step, [first, size()): each left its emitter `age` before the
+// step's end (Emitter::emit placed it where it left) and moves through that time alone, under
+// the fields and with the swept obstacle tests, as a batch of one. Returns how many died.
+std::size_t ParticleSystem::advanceEmitted(std::size_t first, Real h,
+                                           detail::StepWorkers& workers) {
+  Scratch& w = *scratch_;
+  const std::size_t n = pool_.size();
+  if (first >= n) return 0;
+  const StepPlan plan = makePlan(false);
+  const std::size_t chunks = (n - first + kBatch - 1) / kBatch;
+  workers.parallelFor(chunks, 1, [&](std::size_t firstChunk, std::size_t lastChunk) {
+    for (std::size_t c = firstChunk; c != lastChunk; ++c) {
+      std::size_t deaths = 0;
+      const std::size_t end = std::min(n, first + (c + 1) * kBatch);
+      for (std::size_t i = first + c * kBatch; i < end; ++i) {
+        Real& age = pool_.ages()[i];
+        const Real span = age;
+        age = 0;                              // the step adds span back
+        w.freshWorkspaces[c].resetHistory();  // a particle of its own: no Verlet history
+        deaths += integrateBatch(plan, c, true, i, 1, span, Real(time_) + (h - span));
+      }
+      w.freshDeaths[c] = deaths;
+    }
+  });
+  std::size_t deaths = 0;
+  for (std::size_t c = 0; c < chunks; ++c) deaths += w.freshDeaths[c];
+  return deaths;
+}
+
+// Integrates particles [begin, begin + count) (count <= kBatch) over [t, t + h], ages them,
+// flags the dead and collides them with the obstacles, with the scratch of batch `slot` (of the
+// step's batches, or of the chunks of particles emitted during it when `fresh`). Returns how
+// many died.
+std::size_t ParticleSystem::integrateBatch(const StepPlan& plan, std::size_t slot, bool fresh,
+                                           std::size_t begin, std::size_t count, Real h, Real t) {
+  Scratch& w = *scratch_;
+  ode::Workspace<Real>& workspace = fresh ? w.freshWorkspaces[slot] : w.workspaces[slot];
+  const std::size_t n = pool_.size();
+  std::span<Real> x = pool_.positions().subspan(3 * begin, 3 * count);
+  std::span<Real> v = pool_.velocities().subspan(3 * begin, 3 * count);
+  const auto m = pool_.masses().subspan(begin, count);
+  // The batch's start positions for the swept tests, on the stack (24 KiB): they stay in
+  // cache between integration and collision instead of streaming through memory.
+  Real start[3 * kBatch];
+  const Real* previous = plan.coupled ? w.previous.data() + 3 * begin : start;
+  if (plan.fused) {
+    Real acc[3 * kBatch];
+    if (!plan.inKernel) {
+      // The accelerations start at zero and the fields add to them. A leading gravity
+      // field without a region adds the same g to all: start from 0 + g instead (the
+      // same bits, one pass fewer).
+      std::span<const ForceField> rest = fields_;
+      const GravityField* g = fields_.empty() || fields_[0].region
+                                  ? nullptr
+                                  : std::get_if<GravityField>(&fields_[0].field);
+      if (g) {
+        const Real g0 = Real(0) + g->g[0], g1 = Real(0) + g->g[1], g2 = Real(0) + g->g[2];
+        for (std::size_t i = 0; i < count; ++i) {
+          acc[3 * i] = g0;
+          acc[3 * i + 1] = g1;
+          acc[3 * i + 2] = g2;
         }
-      });
+        rest = rest.subspan(1);
+      } else {
+        std::fill_n(acc, 3 * count, Real(0));
+      }
+      applyFields(rest, FieldBatch{t, x, v, m, {acc, 3 * count}});
+    }
+    std::uint16_t near[kBatch];
+    detail::ParticleStepBatch batch{.count = count,
+                                    .h = h,
+                                    .x = x.data(),
+                                    .v = v.data(),
+                                    .m = m.data(),
+                                    .age = pool_.ages().data() + begin,
+                                    .life = pool_.lifetimes().data() + begin,
+                                    .radius = pool_.radii().data() + begin,
+                                    .acc = plan.inKernel ? nullptr : acc,
+                                    .terms = plan.terms,
+                                    .termCount = plan.termCount,
+                                    .start = start,
+                                    .dead = w.dead.data() + begin,
+                                    .tests = plan.nearInKernel ? plan.tests : nullptr,
+                                    .testCount = plan.nearInKernel ? obstacleCache_.size() : 0,
+                                    .list = near};
+    if (!fresh && begin + kBatch < n) {
+      const std::size_t next = begin + kBatch;
+      batch.next[0] = pool_.positions().data() + 3 * next;
+      batch.next[1] = pool_.velocities().data() + 3 * next;
+      batch.next[2] = pool_.masses().data() + next;
+      batch.next[3] = pool_.ages().data() + next;
+      batch.next[4] = pool_.lifetimes().data() + next;
+      batch.next[5] = pool_.radii().data() + next;
+      batch.nextCount = std::min(kBatch, n - next);
+    }
+    const detail::ParticleStepCounts counts = detail::stepParticleBatch(plan.isa, batch);
+    if (plan.nearInKernel)
+      collideObstacles(begin, begin + count, start, near, counts.listed);
+    else if (plan.collide)
+      collideObstacles(begin, begin + count, start);
+    return counts.deaths;
+  }
+  if (!plan.coupled) {
+    if (plan.collide) std::copy_n(x.data(), 3 * count, start);
+    auto accel = [&](Real time, ode::ConstView<Real> xs, ode::ConstView<Real> vs,
+                     ode::View<Real> a) {
+      a.setZero();
+      applyFields(fields_, FieldBatch{time,
+                                      {xs.data(), std::size_t(xs.size())},
+                                      {vs.data(), std::size_t(vs.size())},
+                                      m,
+                                      {a.data(), std::size_t(a.size())}});
+    };
+    if (settings_.integrator == ode::Method::BackwardEuler) {
+      // Matrix-free Jacobian products by forward differences of the fields, and
+      // BiCGSTAB: attractors and vortices give non-symmetric Jacobians. The probe
+      // buffers are the batch's own, grown once.
+      auto& probe = fresh ? w.freshProbes[slot] : w.probes[slot];
+      auto product = [&](bool wrtX) {
+        return [&, wrtX](Real time, ode::ConstView<Real> xs, ode::ConstView<Real> vs,
+                         ode::ConstView<Real> dir, ode::View<Real> out) {
+          const Eigen::Index size = xs.size();
+          for (auto& buffer : probe) buffer.resize(size);
+          const Real scale = std::sqrt(std::numeric_limits<Real>::epsilon()) *
+                             (1 + (wrtX ? xs : vs).norm()) / std::max(dir.norm(), Real(1e-30));
+          probe[0] = (wrtX ? xs : vs) + scale * dir;
+          ode::View<Real> base(probe[1].data(), size), moved(probe[2].data(), size);
+          const ode::ConstView<Real> shifted(probe[0].data(), size);
+          accel(time, xs, vs, base);
+          if (wrtX)
+            accel(time, shifted, vs, moved);
+          else
+            accel(time, xs, shifted, moved);
+          out = (moved - base) / scale;
+        };
+      };
+      // Template arguments spelled out: clang before 17 has no aggregate deduction.
+      auto dadx = product(true), dadv = product(false);
+      ode::SecondOrderSystem<decltype(accel), decltype(dadx), decltype(dadv)> system{accel, dadx,
+                                                                                     dadv};
+      ode::step(settings_.integrator, system, t, h, x, v, workspace,
+                ode::LinearSolverOptions<Real>{.solver = ode::LinearSolver::BiCgStab});
+    } else {
+      ode::step(settings_.integrator, accel, t, h, x, v, workspace);
+    }
+  }
+  Real* age = pool_.ages().data() + begin;
+  const Real* life = pool_.lifetimes().data() + begin;
+  std::uint8_t* dead = w.dead.data() + begin;
+  std::size_t deaths = 0, i = 0;
+#if INERTIA_PARTICLES_SSE
+  {
+    const __m128 step = _mm_set1_ps(h);
+    for (; i + 4 <= count; i += 4) {
+      const __m128 a = _mm_add_ps(_mm_loadu_ps(age + i), step);
+      _mm_storeu_ps(age + i, a);
+      const unsigned mask = unsigned(_mm_movemask_ps(_mm_cmpge_ps(a, _mm_loadu_ps(life + i))));
+      std::memcpy(dead + i, &kMaskBytes[mask], 4);
+      deaths += std::size_t((0x4332322132212110ull >> (4 * mask)) & 0xF);  // popcount
+    }
+  }
+#endif
+  for (; i < count; ++i) {
+    const Real a = age[i] + h;
+    age[i] = a;
+    const bool d = a >= life[i];
+    dead[i] = d;
+    deaths += d;
+  }
+  if (plan.collide) collideObstacles(begin, begin + count, previous);
+  return deaths;
 }
 
 // The full path of collideObstacles() for a system whose only plane is `c`, specialised to a

@@ -108,7 +108,7 @@ std::vector<BodyDesc> pyramid(const PyramidSettings& s) {
       const Vec3 p = s.origin + Vec3((Real(i) - Real(n - 1) / 2) * pitch,
                                      s.halfExtents.y() * Real(2 * row + 1), 0);
       out.push_back(boxBody(p, s.halfExtents, s.material,
-                            "pyramid_" + std::to_string(row) + "_" + std::to_string(i)));
+                            s.name + "_" + std::to_string(row) + "_" + std::to_string(i)));
     }
   }
   return out;
@@ -118,8 +118,8 @@ std::vector<BodyDesc> tower(const TowerSettings& s) {
   requireCount(s.height, "TowerSettings::height");
   std::vector<BodyDesc> out;
   for (int i = 0; i < s.height; ++i)
-    out.push_back(boxBody(s.origin + Vec3(0, s.halfExtents.y() * Real(2 * i + 1), 0),
-                          s.halfExtents, s.material, "tower_" + std::to_string(i)));
+    out.push_back(boxBody(s.origin + Vec3(0, s.halfExtents.y() * Real(2 * i + 1), 0), s.halfExtents,
+                          s.material, s.name + "_" + std::to_string(i)));
   return out;
 }
 
@@ -134,7 +134,7 @@ std::vector<BodyDesc> wall(const WallSettings& s) {
       const Vec3 p = s.origin + Vec3((Real(c) - Real(s.columns - 1) / 2) * pitch + shift,
                                      s.halfExtents.y() * Real(2 * r + 1), 0);
       out.push_back(boxBody(p, s.halfExtents, s.material,
-                            "wall_" + std::to_string(r) + "_" + std::to_string(c)));
+                            s.name + "_" + std::to_string(r) + "_" + std::to_string(c)));
     }
   }
   return out;
@@ -150,7 +150,7 @@ std::vector<BodyDesc> grid(const GridSettings& s) {
         BodyDesc d;
         d.settings.position = s.origin + Vec3(Real(x) * s.spacing.x(), Real(y) * s.spacing.y(),
                                               Real(z) * s.spacing.z());
-        d.settings.name = "grid_" + std::to_string(out.size());
+        d.settings.name = s.name + "_" + std::to_string(out.size());
         d.shapes.push_back({s.shape, s.material, {}});
         out.push_back(std::move(d));
       }
@@ -178,7 +178,7 @@ std::vector<BodyDesc> rain(const RainSettings& s) {
     d.settings.orientation = Quat(Real(b * std::cos(t3)), Real(a * std::sin(t2)),
                                   Real(a * std::cos(t2)), Real(b * std::sin(t3)))
                                  .normalized();
-    d.settings.name = "rain_" + std::to_string(i);
+    d.settings.name = s.name + "_" + std::to_string(i);
     d.shapes.push_back({s.shape, s.material, {}});
     out.push_back(std::move(d));
   }

@@ -87,6 +87,18 @@ TEST_F(Cli, UnknownKeyNamesItsPointer) {
   EXPECT_NE(r.output.find("did you mean \"gravity\""), std::string::npos) << r.output;
 }
 
+TEST_F(Cli, DuplicateBodyNamesAreBadInput) {
+  // Issue 21, defect 4: two bodies named "c" would be two bodies "c" in the recording.
+  const std::string file = write("twins.json", R"({"bodies": [{"name": "c", "position": [0, 1, 0]},
+                                                              {"name": "c", "position": [1, 1, 0]}]})");
+  for (const char* cmd : {"validate ", "run "}) {
+    Result r = run(cmd + file);
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find("/bodies/1/name: duplicate body name \"c\""), std::string::npos)
+        << r.output;
+  }
+}
+
 TEST_F(Cli, NaNIsBadInput) {
   Result r = run("run " + write("nan.json", R"({"world": {"dt": NaN}})"));
   EXPECT_EQ(r.code, 2) << r.output;

@@ -260,7 +260,8 @@ std::vector<SolverBody> bundledPasses(std::vector<ContactConstraint>& cs,
   mode.invH = 240;
   BiasMode relax = mode;
   relax.useBias = false;
-  bundles.updateApproach(bodies);
+  bundles.beginApproach(bodies);
+  bundles.updateApproach(bodies, Real(1) / 240);
   bundles.warmStart(bodies, arena);
   for (int it = 0; it < 3; ++it) bundles.solve(bodies, mode, arena);
   for (SolverBody& b : bodies) b.dp += b.v / 240;
@@ -340,7 +341,8 @@ TEST(ContactSolver, BundledLanesEqualConstraintsSolvedOneByOne) {
   mode.invH = 240;
   BiasMode relax = mode;
   relax.useBias = false;
-  updateApproach(seq, b);
+  beginApproach(seq, b);
+  updateApproach(seq, b, Real(1) / 240);
   warmStart(seq, b);
   for (int it = 0; it < 3; ++it) solve(seq, b, mode);
   for (SolverBody& body : b) body.dp += body.v / 240;

@@ -207,10 +207,11 @@ TEST(JointsSection, ReadsUniversalSixDofAndBallLimits) {
 }
 
 TEST(JointsSection, JointBodiesMustBeUniquelyNamed) {
+  // Refused where the second name is given, before a joint names it.
   SceneError e = errorOf(R"({"bodies": [{"name": "twin"}, {"name": "twin"}, {"name": "c"}],
                              "joints": [{"type": "ball", "body_a": "c", "body_b": "twin"}]})");
-  EXPECT_EQ(e.pointer(), "/joints/0/body_b") << e.what();
-  EXPECT_NE(e.reason().find("2 bodies are named \"twin\""), std::string::npos) << e.what();
+  EXPECT_EQ(e.pointer(), "/bodies/1/name") << e.what();
+  EXPECT_NE(e.reason().find("duplicate body name \"twin\""), std::string::npos) << e.what();
 }
 
 TEST(JointsSection, ReadsEveryJointType) {

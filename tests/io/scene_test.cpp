@@ -37,6 +37,24 @@ TEST(Scene, DefaultsWhenWorldIsAbsent) {
   EXPECT_FALSE(s.camera.has_value());
 }
 
+TEST(Scene, NamesNeedBeUniqueOnlyAmongTheirKind) {
+  // Bodies, joints and particle systems are recorded in files of their own: one name may serve
+  // one of each (the duplicates within a kind are BadScene cases).
+  io::Scene s = parseScene(R"({"bodies": [{"name": "x"}, {"name": "y"}, {},
+                                          {"type": "pyramid", "base": 2},
+                                          {"type": "pyramid", "base": 2, "name": "p2"}],
+                               "joints": [{"name": "x", "type": "ball", "body_b": "x"}, {"type": "ball", "body_b": "y"}],
+                               "particle_systems": [{"name": "x"}, {}]})",
+                           "names.json");
+  ASSERT_EQ(s.bodies.size(), 9u);
+  EXPECT_EQ(s.bodies[2].settings.name, "2");            // unnamed: its index
+  EXPECT_EQ(s.bodies[3].settings.name, "pyramid_0_0");  // a generator's: NAME_row_i
+  EXPECT_EQ(s.bodies[6].settings.name, "p2_0_0");
+  ASSERT_EQ(s.joints.size(), 2u);
+  ASSERT_EQ(s.particleSystems.size(), 2u);
+  EXPECT_EQ(s.particleSystems[1].settings.name, "1");
+}
+
 TEST(Scene, ReadsEveryWorldKey) {
   io::Scene s = parseScene(R"({
     "world": { "gravity": [0, 0, -3.5], "dt": 0.01, "substeps": 2,
@@ -100,37 +118,49 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{R"({"world": {"gravity": [0, null, 0]}})", "/world/gravity/1", "expected a number"},
         BadCase{R"({"world": {"substeps": 2.5}})", "/world/substeps", "integer"},
         BadCase{R"({"world": {"substeps": 0}})", "/world/substeps", "out of range"},
-        BadCase{R"({"world": {"threads": 18446744073709551615}})", "/world/threads", "out of range"},
-        BadCase{R"({"world": {"solver": {"type": "magic"}}})", "/world/solver/type", "unknown solver"},
+        BadCase{R"({"world": {"threads": 18446744073709551615}})", "/world/threads",
+                "out of range"},
+        BadCase{R"({"world": {"solver": {"type": "magic"}}})", "/world/solver/type",
+                "unknown solver"},
         BadCase{R"({"world": {"solver": {"iters": 3}}})", "/world/solver/iters", "unknown key"},
         BadCase{R"({"world": {"integrator": "euler"}})", "/world/integrator", "explicit_euler"},
         BadCase{R"({"world": {"sleeping": 1}})", "/world/sleeping", "true or false"},
         BadCase{R"({"world": []})", "/world", "expected an object, got an array"},
-        BadCase{R"({"camera": {"position": [1, 1, 1], "target": [1, 1, 1]}})", "/camera", "coincide"},
+        BadCase{R"({"camera": {"position": [1, 1, 1], "target": [1, 1, 1]}})", "/camera",
+                "coincide"},
         BadCase{R"({"camera": {"fov": 180.5}})", "/camera/fov", "out of range"},
         BadCase{R"({"bodies": {}})", "/bodies", "expected an array"},
         BadCase{R"({"bodies": [{"type": "rigid"}]})", "/bodies/0/type", "unknown body type"},
-        BadCase{R"({"bodies": [{"shapes": [{"type": "plane", "normal": [0, 1, 0], "offset": 0}]}]})",
-                "/bodies/0/shapes/0", "static body"},
-        BadCase{R"({"bodies": [{"shapes": [{"type": "sphere", "radius": 1, "material": "rubber"}]}]})",
-                "/bodies/0/shapes/0/material", "unknown material"},
-        BadCase{R"({"materials": {"ice": {"friction": -0.1}}, "bodies": []})", "/materials/ice/friction",
+        BadCase{
+            R"({"bodies": [{"shapes": [{"type": "plane", "normal": [0, 1, 0], "offset": 0}]}]})",
+            "/bodies/0/shapes/0", "static body"},
+        BadCase{
+            R"({"bodies": [{"shapes": [{"type": "sphere", "radius": 1, "material": "rubber"}]}]})",
+            "/bodies/0/shapes/0/material", "unknown material"},
+        BadCase{R"({"materials": {"ice": {"friction": -0.1}}, "bodies": []})",
+                "/materials/ice/friction", "out of range"},
+        BadCase{R"({"materials": {"ice": {"restitution": 1.5}}})", "/materials/ice/restitution",
                 "out of range"},
-        BadCase{R"({"materials": {"ice": {"restitution": 1.5}}})", "/materials/ice/restitution", "out of range"},
         BadCase{R"({"bodies": [{"mass": -2}]})", "/bodies/0/mass", "out of range"},
         BadCase{R"({"bodies": [{"inertia": [1, 1, 1]}]})", "/bodies/0/inertia", "needs \"mass\""},
         BadCase{R"({"bodies": [{"velocity": [1, 2]}]})", "/bodies/0/velocity", "3 numbers"},
-        BadCase{R"({"bodies": [{"type": "pyramid", "base": 0}]})", "/bodies/0/base", "out of range"},
-        BadCase{R"({"bodies": [{"type": "grid", "counts": [2, 2], "shape": {"type": "sphere", "radius": 1}}]})",
-                "/bodies/0/counts", "expected [nx, ny, nz]"},
+        BadCase{R"({"bodies": [{"type": "pyramid", "base": 0}]})", "/bodies/0/base",
+                "out of range"},
+        BadCase{
+            R"({"bodies": [{"type": "grid", "counts": [2, 2], "shape": {"type": "sphere", "radius": 1}}]})",
+            "/bodies/0/counts", "expected [nx, ny, nz]"},
         BadCase{R"({"bodies": [{"type": "rain", "count": 5, "lower": [0, 0, 0], "upper": [1, -1, 1],
-                    "shape": {"type": "sphere", "radius": 1}}]})", "/bodies/0/upper", "upper must be"},
-        BadCase{R"({"bodies": [{"shapes": [{"type": "sphere", "radius": 1, "color": [2, 0, 0]}]}]})",
-                "/bodies/0/shapes/0/color", "[0, 1]"},
-        BadCase{R"({"world": {"solver": {"type": "lemke"}}})", "/world/solver/type", "unknown solver"},
+                    "shape": {"type": "sphere", "radius": 1}}]})",
+                "/bodies/0/upper", "upper must be"},
+        BadCase{
+            R"({"bodies": [{"shapes": [{"type": "sphere", "radius": 1, "color": [2, 0, 0]}]}]})",
+            "/bodies/0/shapes/0/color", "[0, 1]"},
+        BadCase{R"({"world": {"solver": {"type": "lemke"}}})", "/world/solver/type",
+                "unknown solver"},
         BadCase{R"({"world": {"a/b~c": 1}})", "/world/a~1b~0c", "unknown key"},
         BadCase{R"([1, 2])", "", "expected an object"},
-        BadCase{R"({"particle_systems": [{"capacity": 0}]})", "/particle_systems/0/capacity", "out of range"},
+        BadCase{R"({"particle_systems": [{"capacity": 0}]})", "/particle_systems/0/capacity",
+                "out of range"},
         BadCase{R"({"particle_systems": [{"emitters": [{"type": "point", "rate": -5}]}]})",
                 "/particle_systems/0/emitters/0/rate", "out of range"},
         BadCase{R"({"particle_systems": [{"emitters": [{"type": "fountain"}]}]})",
@@ -141,25 +171,54 @@ INSTANTIATE_TEST_SUITE_P(
                 "/particle_systems/0/fields/0/type", "unknown field type"},
         BadCase{R"({"particle_systems": [{"fields": [{"type": "drag", "k": -1}]}]})",
                 "/particle_systems/0/fields/0/k", "out of range"},
-        BadCase{R"({"particle_systems": [{"fields": [{"type": "vortex", "angular_speed": 1, "axis": [0, 0, 0]}]}]})",
-                "/particle_systems/0/fields/0", "axis"},
+        BadCase{
+            R"({"particle_systems": [{"fields": [{"type": "vortex", "angular_speed": 1, "axis": [0, 0, 0]}]}]})",
+            "/particle_systems/0/fields/0", "axis"},
         BadCase{R"({"particle_systems": [{"obstacles": [{"type": "sphere", "radius": 0}]}]})",
                 "/particle_systems/0/obstacles/0/radius", "out of range"},
         BadCase{R"({"particle_systems": [{"obstacles": [{"type": "box", "radius": 1}]}]})",
                 "/particle_systems/0/obstacles/0/radius", "unknown key"},
-        BadCase{R"({"particle_systems": [{"obstacles": [{"type": "hull", "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]}]}]})",
-                "/particle_systems/0/obstacles/0", "invalid hull"},
-        BadCase{R"({"particle_systems": [{"integrator": "leapfrog"}]})", "/particle_systems/0/integrator",
-                "unknown integrator"},
-        BadCase{R"({"particle_systems": [{"collide_with_bodies": 1}]})", "/particle_systems/0/collide_with_bodies",
-                "expected true or false"},
-        BadCase{R"({"bodies": [{"name": "cart"}], "particle_systems": [{"emitters": [{"type": "point", "attach_to": "kart"}]}]})",
-                "/particle_systems/0/emitters/0/attach_to", "no body is named \"kart\""},
+        BadCase{
+            R"({"particle_systems": [{"obstacles": [{"type": "hull", "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]}]}]})",
+            "/particle_systems/0/obstacles/0", "invalid hull"},
+        BadCase{R"({"particle_systems": [{"integrator": "leapfrog"}]})",
+                "/particle_systems/0/integrator", "unknown integrator"},
+        BadCase{R"({"particle_systems": [{"collide_with_bodies": 1}]})",
+                "/particle_systems/0/collide_with_bodies", "expected true or false"},
+        BadCase{
+            R"({"bodies": [{"name": "cart"}], "particle_systems": [{"emitters": [{"type": "point", "attach_to": "kart"}]}]})",
+            "/particle_systems/0/emitters/0/attach_to", "no body is named \"kart\""},
+        // Issue 21, defect 4: names tell bodies, joints and particle systems apart in
+        // recordings; the second holder of a name is refused, named by its pointer.
         BadCase{R"({"bodies": [{"name": "cart"}, {"name": "cart"}],
                     "particle_systems": [{"emitters": [{"type": "point", "attach_to": "cart"}]}]})",
-                "/particle_systems/0/emitters/0/attach_to", "2 bodies are named"},
-        BadCase{R"({"bodies": [{"name": "cart"}], "particle_systems": [{"emitters": [{"type": "point", "attach_to": 0}]}]})",
-                "/particle_systems/0/emitters/0/attach_to", "string"}));
+                "/bodies/1/name", "duplicate body name \"cart\", already /bodies/0's"},
+        BadCase{R"({"bodies": [{"name": "c", "position": [0, 1, 0]}, {"name": "c"}]})",
+                "/bodies/1/name", "duplicate body name \"c\", already /bodies/0's"},
+        BadCase{R"({"bodies": [{"name": "1"}, {}]})", "/bodies/1",
+                "duplicate body name \"1\" (a name made for it, as it has no \"name\")"},
+        BadCase{R"({"bodies": [{"type": "pyramid", "base": 2},
+                               {"type": "pyramid", "base": 2, "position": [5, 0, 0]}]})",
+                "/bodies/1", "duplicate body name \"pyramid_0_0\" (a name made for it"},
+        BadCase{R"({"bodies": [{"type": "tower", "height": 2, "name": "t"},
+                               {"type": "grid", "counts": [2, 1, 1], "name": "t",
+                                "shape": {"type": "sphere", "radius": 0.1}}]})",
+                "/bodies/1/name", "duplicate body name \"t_0\", already /bodies/0's"},
+        BadCase{R"({"bodies": [{"type": "ragdoll", "name": "r"},
+                               {"type": "ragdoll", "name": "r", "position": [3, 0, 0]}]})",
+                "/bodies/1/name", "duplicate body name \"r_"},
+        BadCase{R"({"bodies": [{"name": "a"}, {"name": "b"}],
+                    "joints": [{"name": "j", "type": "ball", "body_b": "a"},
+                               {"name": "j", "type": "ball", "body_a": "a", "body_b": "b"}]})",
+                "/joints/1/name", "duplicate joint name \"j\", already /joints/0's"},
+        BadCase{R"({"bodies": [{"type": "ragdoll", "name": "r"}],
+                    "joints": [{"name": "r_neck", "type": "ball", "body_b": "r_head"}]})",
+                "/joints/0/name", "duplicate joint name \"r_neck\", already /bodies/0's"},
+        BadCase{R"({"particle_systems": [{"name": "sparks"}, {"name": "sparks"}]})",
+                "/particle_systems/1/name", "duplicate particle system name \"sparks\""},
+        BadCase{
+            R"({"bodies": [{"name": "cart"}], "particle_systems": [{"emitters": [{"type": "point", "attach_to": 0}]}]})",
+            "/particle_systems/0/emitters/0/attach_to", "string"}));
 
 // The ragdoll generator's keys.
 INSTANTIATE_TEST_SUITE_P(

@@ -207,9 +207,10 @@ TEST(WorldParticlesBodies, EmitterOnAMovingBodyAddsTheBodysVelocity) {
 TEST(WorldParticlesBodies, EmittedParticlesFollowARotatingBody) {
   // A kinematic body spinning at w = 2 rad/s about y carries an emitter 1 m from the axis that
   // emits at zero speed. A particle leaves the emission point with the point's velocity w x r
-  // and moves straight on; after the step it has flown a chord's tangent: its distance from the
-  // point's new position is at most R (w h)^2 / 2 (5.6e-4 m here), plus R (w h)^2 for its
-  // random age. Its velocity is w x r at the step's start, exactly up to rounding.
+  // and moves straight on from where the point was at its emission (the point moved along the
+  // tangent w x r until then); after the step it has flown a chord's tangent: its distance from
+  // the point's new position is at most R (w h)^2 / 2 (5.6e-4 m here). Its velocity is w x r at
+  // the step's start, exactly up to rounding.
   const Real h = Real(1.0 / 60), w = 2, R = 1;
   World world({.gravity = Vec3::Zero(), .threads = 1});
   const BodyId wheel =
@@ -229,9 +230,9 @@ TEST(WorldParticlesBodies, EmittedParticlesFollowARotatingBody) {
     const Vec3 r0 = before.apply(Vec3(R, 0, 0));
     const Vec3 tangential = Vec3(0, w, 0).cross(r0);
     for (std::size_t i = 0; i < ps.pool().size(); ++i) {
-      if (ps.pool().ages()[i] >= 2 * h) continue;  // emitted this step
+      if (ps.pool().ages()[i] > h) continue;  // emitted this step: age in (0, h]
       EXPECT_LE((ps.pool().position(i) - pointNow).norm(),
-                Real(1.5) * R * (w * h) * (w * h) + 1e-5);
+                Real(0.5) * R * (w * h) * (w * h) + 1e-5);
       EXPECT_LE((ps.pool().velocity(i) - tangential).norm(), 1e-5);
       ++checked;
     }

@@ -88,10 +88,13 @@ class Emitter {
   void setCarrierVelocity(const Vec3& linear, const Vec3& angular, const Vec3& center);
 
   /// Emits the particles due over a step of `h` seconds (the burst on the first call, then
-  /// rate * h plus the carried fraction) into `pool`. Each new particle is given a random age
-  /// in [0, h) and moved along its velocity by that age, so a fast stream is not emitted in
-  /// clumps once per step. Returns how many were emitted; those that did not fit in a full pool
-  /// are counted in dropped().
+  /// rate * h plus the carried fraction) into `pool`. Each new particle leaves the emitter at
+  /// a random time within the step and is placed where it leaves it (with a carrier, where the
+  /// emission point has moved to by then), with the time from then to the step's end, in
+  /// (0, h], as its age: ParticleSystem::step then moves it through that time, with the
+  /// fields and the swept obstacle tests, so a fast stream is not emitted in clumps once per
+  /// step. Returns how many were emitted; those that did not fit in a full pool are counted in
+  /// dropped().
   std::int64_t emit(ParticlePool& pool, Real h);
 
   std::int64_t dropped() const { return dropped_; }

@@ -120,7 +120,8 @@ class ParticleSystem {
   ParticleStats stats() const;
   double time() const { return time_; }
 
-  /// Advances by h seconds: emit, integrate under the fields and springs, age and kill,
+  /// Advances by h seconds: integrate under the fields and springs, emit (each new particle
+  /// moves from its emission point for the part of the step after its emission), age and kill,
   /// collide with obstacles (continuously: the swept segment is tested) and, when enabled,
   /// with each other, on the threads of `pool` (in sequence when null; the result is the
   /// same). Throws InvalidArgument when h is not finite and > 0.
@@ -135,7 +136,12 @@ class ParticleSystem {
 
  private:
   struct Scratch;
+  struct StepPlan;
+  StepPlan makePlan(bool coupled) const;
   void integrate(Real h, detail::StepWorkers& workers);
+  std::size_t advanceEmitted(std::size_t first, Real h, detail::StepWorkers& workers);
+  std::size_t integrateBatch(const StepPlan& plan, std::size_t slot, bool fresh, std::size_t begin,
+                             std::size_t count, Real h, Real t);
   void integrateCoupled(Real h, detail::StepWorkers& workers);
   /// Collides particles [begin, end) with the obstacles. `previous` holds their positions at
   /// the start of the step (3 Reals each, from `begin`) for the swept test, or is null for a

@@ -47,6 +47,7 @@ struct PyramidSettings {
   Vec3 origin = Vec3::Zero();
   Real gap = 0;
   Material material{};
+  std::string name = "pyramid";  ///< Its bodies are named NAME_ROW_I.
 };
 std::vector<BodyDesc> pyramid(const PyramidSettings& settings);
 
@@ -56,6 +57,7 @@ struct TowerSettings {
   Vec3 halfExtents = Vec3::Constant(Real(0.5));
   Vec3 origin = Vec3::Zero();
   Material material{};
+  std::string name = "tower";  ///< Its bodies are named NAME_I.
 };
 std::vector<BodyDesc> tower(const TowerSettings& settings);
 
@@ -68,6 +70,7 @@ struct WallSettings {
   Vec3 origin = Vec3::Zero();
   bool staggered = true;
   Material material{};
+  std::string name = "wall";  ///< Its bodies are named NAME_ROW_COLUMN.
 };
 std::vector<BodyDesc> wall(const WallSettings& settings);
 
@@ -79,6 +82,7 @@ struct GridSettings {
   Vec3 origin = Vec3::Zero();
   Shape shape = Sphere{Real(0.5)};
   Material material{};
+  std::string name = "grid";  ///< Its bodies are named NAME_I.
 };
 std::vector<BodyDesc> grid(const GridSettings& settings);
 
@@ -91,6 +95,7 @@ struct RainSettings {
   Shape shape = Box{Vec3::Constant(Real(0.5))};
   Material material{};
   std::uint64_t seed = 1;
+  std::string name = "rain";  ///< Its bodies are named NAME_I.
 };
 std::vector<BodyDesc> rain(const RainSettings& settings);
 
