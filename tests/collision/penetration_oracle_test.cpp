@@ -54,7 +54,8 @@ struct ShapeD {
 };
 
 ShapeD makeShape(Kind kind, const Shape& shape, const Transform& pose) {
-  ShapeD s{kind, shape, pose, pose.q.cast<double>().normalized().toRotationMatrix(), toD(pose.p)};
+  ShapeD s{kind, shape, pose, pose.q.cast<double>().normalized().toRotationMatrix(), toD(pose.p), 0,
+           {},   {},    {}};
   switch (kind) {
     case Kind::Sphere:
       s.radius = shape.get<Sphere>().radius;
@@ -345,7 +346,7 @@ Shape randomShape(std::mt19937_64& rng, Kind kind) {
 double pairScale(const ShapeD& a, const ShapeD& b) {
   double reach = 0;
   for (const ShapeD* s : {&a, &b})
-    for (const Vec3d& u : {Vec3d::UnitX(), Vec3d::UnitY(), Vec3d::UnitZ()})
+    for (const Vec3d u : {Vec3d::UnitX(), Vec3d::UnitY(), Vec3d::UnitZ()})
       reach += std::max((coreSupport(*s, u) - s->centre).norm(),
                         (coreSupport(*s, -u) - s->centre).norm()) /
                    3 +
@@ -408,7 +409,9 @@ void checkPair(const ShapeD& a, const ShapeD& b, Tally& tally, const std::string
     EXPECT_LE(c.distance, len + abs) << what;
     EXPECT_LE(std::abs(onA), abs) << what;
     EXPECT_LE(std::abs(onB), abs) << what;
-    if (ref.exact) EXPECT_NEAR(c.distance, -ref.lo, kDistanceRel * c.distance + abs) << what;
+    if (ref.exact) {
+      EXPECT_NEAR(c.distance, -ref.lo, kDistanceRel * c.distance + abs) << what;
+    }
   }
 }
 
