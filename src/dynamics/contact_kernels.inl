@@ -529,10 +529,12 @@ struct SolveState {
   const Pack accumulated = at(p.normalImpulse);
   const Pack impulse0 = -at(p.normalMass) * massScale * (vn + bias) - impulseScale * accumulated;
   Pack updated = max(accumulated + impulse0, zero);
-  // The relax pass leaves open rows alone: their gap closes, if at all, in a later substep,
-  // whose solve pass stops it there. Slowing the approach now would take the speed that
-  // restitution gives back at the impact.
-  if (!mode.useBias) updated = select(open, accumulated, updated);
+  // The relax pass leaves a bouncy contact's open rows alone: their gap closes, if at all, in a
+  // later substep, whose solve pass stops it there. Slowing the approach now would take the
+  // speed that restitution gives back at the impact. A contact without restitution is relaxed
+  // as Box2D v3 does: left alone, a body resting on a speculative gap would keep the speed that
+  // closes it (a 70 kg ragdoll at rest kept 0.039 J).
+  if (!mode.useBias) updated = select(open & (at(c.restitution) != zero), accumulated, updated);
   const Pack impulse = updated - accumulated;
   at.store(updated, p.normalImpulse);
   at.store(max(at(p.maxNormalImpulse), impulse), p.maxNormalImpulse);
