@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "bodies_section.h"
+#include "deformables_section.h"
 #include "inertia/core/error.h"
 #include "joints_section.h"
 #include "json_reader.h"
@@ -66,18 +67,6 @@ Camera readCamera(const Node& n) {
   return c;
 }
 
-// Sections whose systems arrive with later layers: accepted when empty, so that the scene file
-// format is stable, and refused with a clear message when they hold anything.
-void requireEmpty(const Node& root, std::string_view key, bool isObject, const char* what) {
-  if (!root.has(key)) return;
-  Node n = root.at(key);
-  if (isObject) {
-    n.requireObject({});
-  } else if (n.requireArray() != 0) {
-    n.at(std::size_t(0)).fail(std::string(what) + " are not implemented yet in this version of Inertia");
-  }
-}
-
 }  // namespace
 
 Scene parseScene(const std::string& text, const std::filesystem::path& name) {
@@ -135,7 +124,11 @@ Scene parseScene(const std::string& text, const std::filesystem::path& name) {
     for (std::size_t i = 0; i < list.requireArray(); ++i)
       scene.particleSystems.push_back(detail::readParticleSystem(list.at(i), i, scene.bodies));
   }
-  requireEmpty(n, "deformables", false, "deformables");
+  if (n.has("deformables")) {
+    Node list = n.at("deformables");
+    for (std::size_t i = 0; i < list.requireArray(); ++i)
+      scene.deformables.push_back(detail::readDeformable(list.at(i), i));
+  }
   return scene;
 }
 
@@ -201,6 +194,10 @@ std::unique_ptr<World> instantiate(const Scene& scene) {
     }
     for (const ForceField& f : d.fields) ps.addField(f);
     for (const Obstacle& o : d.obstacles) ps.addObstacle(o);
+  }
+  for (const DeformableDesc& d : scene.deformables) {
+    Deformable& deformable = world->deformable(world->createDeformable(d.settings, d.model));
+    for (const ForceField& f : d.fields) deformable.addField(f);
   }
   return world;
 }
