@@ -53,6 +53,8 @@ int main(int argc, char** argv) {
   runCmd->add_option("--record-particles", run.recordParticles, "Write particle states as CSV");
   runCmd->add_option("--record-joints", run.recordJoints,
                      "Write joint forces, torques, errors and breaks as CSV");
+  runCmd->add_option("--record-deformables", run.recordDeformables,
+                     "Write deformables' vertex states as CSV");
   runCmd->add_option("--stats", run.stats, "Write a JSON summary");
   runCmd->add_option("--energy", run.energy,
                      "Write kinetic, potential, total energy and momenta per step as CSV");

@@ -59,6 +59,27 @@ struct Break {
   Vec3 force, torque;
 };
 
+// Per deformable: vertices, springs, and springs broken so far.
+nlohmann::json deformableStats(const World& world) {
+  nlohmann::json list = nlohmann::json::array();
+  for (DeformableId id : world.deformables()) {
+    const Deformable& d = world.deformable(id);
+    list.push_back({{"name", d.name()},
+                    {"vertices", d.vertexCount()},
+                    {"springs", d.springs().size()},
+                    {"broken_springs", d.brokenCount()}});
+  }
+  return list;
+}
+
+// A spring of a deformable that tore during the run, for the summary.
+struct Tear {
+  double time;
+  std::string deformable;
+  std::size_t spring;
+  Real strain;
+};
+
 nlohmann::json statsJson(const World& world, double wallTime) {
   const PhaseTimes& p = world.phaseTimes();
   return {
@@ -74,8 +95,10 @@ nlohmann::json statsJson(const World& world, double wallTime) {
         {"narrow_phase", p.narrowPhase},
         {"solver", p.solver},
         {"integration", p.integration},
-        {"particles", p.particles}}},
+        {"particles", p.particles},
+        {"deformables", p.deformables}}},
       {"particle_systems", particleStats(world)},
+      {"deformables", deformableStats(world)},
   };
 }
 
@@ -156,6 +179,14 @@ int runScene(const RunOptions& o) {
     std::fprintf(stderr, "inertia: --record-joints: %s\n", e.what());
     return kBadInput;
   }
+  std::unique_ptr<io::DeformableRecorder> deformableRecorder;
+  try {
+    if (!o.recordDeformables.empty())
+      deformableRecorder = std::make_unique<io::DeformableRecorder>(o.recordDeformables);
+  } catch (const std::runtime_error& e) {
+    std::fprintf(stderr, "inertia: --record-deformables: %s\n", e.what());
+    return kBadInput;
+  }
   std::unique_ptr<EnergyLog> energyLog;
   try {
     if (!o.energy.empty()) energyLog = std::make_unique<EnergyLog>(o.energy);
@@ -189,6 +220,9 @@ int runScene(const RunOptions& o) {
                              rb.jointForce(id), rb.jointTorque(id), rb.jointError(id));
       }
     }
+    if (deformableRecorder)
+      for (DeformableId id : world->deformables())
+        deformableRecorder->write(Real(world->time()), world->deformable(id));
     if (!particleRecorder) return;
     for (ParticleSystemId id : world->particleSystems()) {
       const ParticleSystem& ps = world->particleSystem(id);
@@ -196,6 +230,7 @@ int runScene(const RunOptions& o) {
     }
   };
   std::vector<Break> breaks;  // reported once each, in the summary
+  std::vector<Tear> tears;    // likewise
 
   Progress progress(!o.quiet, steps, "step");
   double wall = 0;
@@ -212,6 +247,11 @@ int runScene(const RunOptions& o) {
                                     : jointLabels[std::size_t(at - jointIds.begin())];
       breaks.push_back({world->time(), label, e.force, e.torque});
     }
+    for (DeformableId id : world->deformables()) {
+      const Deformable& d = world->deformable(id);
+      for (const TearEvent& e : d.tearEvents())
+        tears.push_back({e.time, d.name(), e.spring, e.strain});
+    }
     if ((i + 1) % o.recordEvery == 0) record();
     if (energyLog) energyLog->write(measureEnergy(*world, gravityScale));
     progress.update(i + 1);
@@ -220,6 +260,7 @@ int runScene(const RunOptions& o) {
   if (recorder) recorder->close();
   if (particleRecorder) particleRecorder->close();
   if (jointRecorder) jointRecorder->close();
+  if (deformableRecorder) deformableRecorder->close();
   if (energyLog) energyLog->close();
 
   if (!o.stats.empty()) {
@@ -245,6 +286,9 @@ int runScene(const RunOptions& o) {
       std::printf("  particles \"%s\": %lld alive, %lld emitted, %lld died\n", ps.name().c_str(),
                   (long long)s.alive, (long long)s.emitted, (long long)s.died);
     }
+    for (const Tear& t : tears)
+      std::printf("  deformable \"%s\": spring %zu tore at %.4g s (strain %.4g)\n",
+                  t.deformable.c_str(), t.spring, t.time, double(t.strain));
   }
   return kOk;
 }

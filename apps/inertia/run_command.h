@@ -29,6 +29,7 @@ struct RunOptions {
   std::string stats;                  ///< JSON summary.
   std::string recordParticles;        ///< Particle CSV (DESIGN.md section 6).
   std::string recordJoints;           ///< Joint CSV (DESIGN.md section 6).
+  std::string recordDeformables;      ///< Deformable vertex CSV (DESIGN.md section 6).
   std::string energy;                 ///< Energy and momenta per step (CSV).
   bool quiet = false;                 ///< No summary or progress on the terminal.
 };

@@ -6,5 +6,6 @@
 #include "inertia/core/types.h"
 #include "inertia/ode/ode.h"
 #include "inertia/collision/queries.h"
+#include "inertia/deformable/generators.h"
 #include "inertia/world/builders.h"
 #include "inertia/world/world.h"

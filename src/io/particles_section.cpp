@@ -106,6 +106,8 @@ EmitterSettings readEmitter(const Node& n, Real defaultSize, const std::vector<B
   return e;
 }
 
+}  // namespace
+
 ForceField readField(const Node& n) {
   const std::string type = n.at("type").string();
   ForceField f;
@@ -176,8 +178,6 @@ ForceField readField(const Node& n) {
   checked(n, [&] { validate(f); });
   return f;
 }
-
-}  // namespace
 
 ParticleSystemDesc readParticleSystem(const Node& n, std::size_t index, const std::vector<BodyDesc>& bodies) {
   n.requireObject({"name", "capacity", "integrator", "emitters", "fields", "obstacles",

@@ -124,4 +124,40 @@ void ParticleRecorder::close() {
   if (failed) throw std::runtime_error(path_.string() + ": write failed");
 }
 
+DeformableRecorder::DeformableRecorder(const std::filesystem::path& file) : path_(file) {
+  file_ = std::fopen(file.c_str(), "wb");
+  if (!file_) throw std::runtime_error(file.string() + ": cannot be opened for writing");
+  std::fwrite(kHeader.data(), 1, kHeader.size(), file_);
+  std::fputc('\n', file_);
+}
+
+DeformableRecorder::~DeformableRecorder() {
+  if (file_) std::fclose(file_);
+}
+
+void DeformableRecorder::write(Real time, const Deformable& d) {
+  const auto x = d.positions();
+  const auto v = d.velocities();
+  for (std::size_t i = 0; i < d.vertexCount(); ++i) {
+    buffer_.clear();
+    appendReal(buffer_, time);
+    buffer_ += ',';
+    buffer_ += d.name();
+    buffer_ += ',';
+    buffer_ += std::to_string(i);
+    for (int k = 0; k < 3; ++k) (buffer_ += ','), appendReal(buffer_, x[3 * i + std::size_t(k)]);
+    for (int k = 0; k < 3; ++k) (buffer_ += ','), appendReal(buffer_, v[3 * i + std::size_t(k)]);
+    buffer_ += '\n';
+    std::fwrite(buffer_.data(), 1, buffer_.size(), file_);
+  }
+}
+
+void DeformableRecorder::close() {
+  if (!file_) return;
+  bool failed = std::ferror(file_) != 0;
+  failed |= std::fclose(file_) != 0;
+  file_ = nullptr;
+  if (failed) throw std::runtime_error(path_.string() + ": write failed");
+}
+
 }  // namespace inertia::io

@@ -6,6 +6,7 @@
 #include <variant>
 
 #include "bodies_section.h"
+#include "deformables_section.h"
 #include "inertia/core/error.h"
 #include "joints_section.h"
 #include "json_reader.h"
@@ -66,18 +67,6 @@ Camera readCamera(const Node& n) {
   if (n.has("fov")) c.fov = Real(n.at("fov").number(0, 180, /*openLo=*/true));
   if ((c.position - c.target).norm() <= Real(1e-6)) n.fail("camera position and target coincide");
   return c;
-}
-
-// Sections whose systems arrive with later layers: accepted when empty, so that the scene file
-// format is stable, and refused with a clear message when they hold anything.
-void requireEmpty(const Node& root, std::string_view key, bool isObject, const char* what) {
-  if (!root.has(key)) return;
-  Node n = root.at(key);
-  if (isObject) {
-    n.requireObject({});
-  } else if (n.requireArray() != 0) {
-    n.at(std::size_t(0)).fail(std::string(what) + " are not implemented yet in this version of Inertia");
-  }
 }
 
 // Names identify bodies, joints and particle systems in recordings, and bodies in the
@@ -176,7 +165,11 @@ Scene parseScene(const std::string& text, const std::filesystem::path& name) {
       systemNames.add(list.at(i), scene.particleSystems.back().settings.name);
     }
   }
-  requireEmpty(n, "deformables", false, "deformables");
+  if (n.has("deformables")) {
+    Node list = n.at("deformables");
+    for (std::size_t i = 0; i < list.requireArray(); ++i)
+      scene.deformables.push_back(detail::readDeformable(list.at(i), i));
+  }
   return scene;
 }
 
@@ -242,6 +235,10 @@ std::unique_ptr<World> instantiate(const Scene& scene) {
     }
     for (const ForceField& f : d.fields) ps.addField(f);
     for (const Obstacle& o : d.obstacles) ps.addObstacle(o);
+  }
+  for (const DeformableDesc& d : scene.deformables) {
+    Deformable& deformable = world->deformable(world->createDeformable(d.settings, d.model));
+    for (const ForceField& f : d.fields) deformable.addField(f);
   }
   return world;
 }

@@ -19,12 +19,13 @@
 #define INERTIA_PARTICLES_SSE 0
 #endif
 
+#include "fast_path.h"
+#include "impact.h"
 #include "inertia/collision/queries.h"
 #include "inertia/collision/uniform_grid.h"
 #include "inertia/core/error.h"
 #include "inertia/geometry/bounds.h"
 #include "inertia/ode/step.h"
-#include "fast_path.h"
 
 namespace inertia {
 
@@ -50,19 +51,6 @@ constexpr std::uint32_t kMaskBytes[16] = {
 // Obstacles the vectorised near test filters against; with more, every particle takes the full
 // path (whose loops cull by bounds).
 constexpr std::size_t kMaxNearTests = 64;
-
-// Newton's impact model (seed 000): the normal velocity reverses scaled by e; Coulomb friction
-// takes at most mu times the normal velocity change off the tangential velocity.
-void respond(Vec3& v, const Vec3& n, Real e, Real mu, Real threshold) {
-  const Real vn = v.dot(n);
-  if (vn >= 0) return;
-  const Real ee = -vn < threshold ? Real(0) : e;
-  const Real dvn = -(1 + ee) * vn;
-  Vec3 vt = v - vn * n;
-  const Real vtNorm = vt.norm();
-  if (vtNorm > 0) vt *= std::max(Real(0), 1 - mu * dvn / vtNorm);
-  v = vt - ee * vn * n;
-}
 
 using NearTest = detail::ParticleNearTest;
 
@@ -623,7 +611,7 @@ bool ParticleSystem::collidePlaneOnly(const ObstacleCache& c, const Real* previo
       if (!(f < Real(1))) break;  // the full path keeps only hits before the segment's end
       const Vec3 point = start + f * sweep;
       const Vec3 before = vel;
-      respond(vel, c.normal, e, mu, threshold);
+      detail::respondToImpact(vel, c.normal, e, mu, threshold);
       const Real remaining = 1 - f;
       const Real speedBefore = before.norm();
       start = point + c.normal * (r + kSkin);
@@ -636,7 +624,7 @@ bool ParticleSystem::collidePlaneOnly(const ObstacleCache& c, const Real* previo
   const Real d = c.normal.dot(end1) - c.offset;
   if (d < r) {
     end1 += c.normal * (r + kSkin - d);
-    respond(vel, c.normal, e, mu, threshold);
+    detail::respondToImpact(vel, c.normal, e, mu, threshold);
   }
   visited.extend(end1);
   visited = visited.inflated(r + kSkin);
@@ -798,7 +786,7 @@ void ParticleSystem::collideObstacles(std::size_t begin, std::size_t end, const 
         }
         if (!first) break;
         const Vec3 before = vel;
-        respond(vel, first->normal, e, mu, threshold);
+        detail::respondToImpact(vel, first->normal, e, mu, threshold);
         // The rest of the step continues from the contact with the new velocity.
         const Real remaining = 1 - first->fraction;
         const Real speedBefore = before.norm();
@@ -813,7 +801,7 @@ void ParticleSystem::collideObstacles(std::size_t begin, std::size_t end, const 
         const Real d = c.normal.dot(end1) - c.offset;
         if (d < r) {
           end1 += c.normal * (r + kSkin - d);
-          respond(vel, c.normal, e, mu, threshold);
+          detail::respondToImpact(vel, c.normal, e, mu, threshold);
         }
         continue;
       }
@@ -825,10 +813,10 @@ void ParticleSystem::collideObstacles(std::size_t begin, std::size_t end, const 
           // Newton and Coulomb on the velocity relative to the surface point touched.
           const Vec3 surface = c.linearVelocity + c.angularVelocity.cross(q.point - c.center);
           Vec3 relative = vel - surface;
-          respond(relative, q.normal, e, mu, threshold);
+          detail::respondToImpact(relative, q.normal, e, mu, threshold);
           vel = relative + surface;
         } else {
-          respond(vel, q.normal, e, mu, threshold);
+          detail::respondToImpact(vel, q.normal, e, mu, threshold);
         }
       }
     }

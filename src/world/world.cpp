@@ -66,6 +66,7 @@ void World::step(Real dt) {
       ps.step(dt, workers);
     }
     phases_.particles += std::chrono::duration<double>(Clock::now() - t0).count();
+    stepDeformables(dt, obstaclesGathered);
   });
   time_ += double(dt);
   ++steps_;
@@ -137,6 +138,66 @@ std::vector<ParticleSystemId> World::particleSystems() const {
   std::vector<ParticleSystemId> ids;
   for (std::uint32_t i = 0; i < particleSlots_.size(); ++i)
     if (particleSlots_[i].system) ids.push_back({i, particleSlots_[i].generation});
+  return ids;
+}
+
+// The deformables, one step of dt each in slot order, on the calling thread.
+void World::stepDeformables(Real dt, bool& obstaclesGathered) {
+  const auto t0 = std::chrono::steady_clock::now();
+  for (DeformableSlot& slot : deformableSlots_) {
+    if (!slot.deformable) continue;
+    Deformable& d = *slot.deformable;
+    if (d.settings().collideWithBodies) {
+      if (!obstaclesGathered) gatherBodyObstacles();
+      obstaclesGathered = true;
+      d.setMovingObstacles(bodyObstacles_);
+    }
+    d.step(dt);
+  }
+  phases_.deformables +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+DeformableId World::createDeformable(const DeformableSettings& settings,
+                                     const MassSpringModel& model) {
+  auto deformable = std::make_unique<Deformable>(settings, model);
+  for (std::uint32_t i = 0; i < deformableSlots_.size(); ++i) {
+    if (!deformableSlots_[i].deformable) {
+      deformableSlots_[i].deformable = std::move(deformable);
+      return {i, deformableSlots_[i].generation};
+    }
+  }
+  deformableSlots_.push_back({std::move(deformable), 1});
+  return {std::uint32_t(deformableSlots_.size() - 1), 1};
+}
+
+bool World::isValid(DeformableId id) const {
+  return !id.isNull() && id.index < deformableSlots_.size() &&
+         deformableSlots_[id.index].generation == id.generation &&
+         deformableSlots_[id.index].deformable;
+}
+
+void World::destroyDeformable(DeformableId id) {
+  require(isValid(id), "World::destroyDeformable: invalid deformable id");
+  DeformableSlot& slot = deformableSlots_[id.index];
+  slot.deformable.reset();
+  ++slot.generation;
+}
+
+Deformable& World::deformable(DeformableId id) {
+  require(isValid(id),
+          "World::deformable: invalid deformable id (index " + std::to_string(id.index) + ")");
+  return *deformableSlots_[id.index].deformable;
+}
+
+const Deformable& World::deformable(DeformableId id) const {
+  return const_cast<World*>(this)->deformable(id);
+}
+
+std::vector<DeformableId> World::deformables() const {
+  std::vector<DeformableId> ids;
+  for (std::uint32_t i = 0; i < deformableSlots_.size(); ++i)
+    if (deformableSlots_[i].deformable) ids.push_back({i, deformableSlots_[i].generation});
   return ids;
 }
 

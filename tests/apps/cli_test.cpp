@@ -393,3 +393,46 @@ TEST_F(Cli, PendulumsSceneKeepsItsJoints) {
     EXPECT_LT(std::stod(row[9]), 0.02) << row[0] << " " << row[1];
   }
 }
+
+// A rope hanging from its pinned top vertex: rows per vertex per recorded step, the pinned
+// vertex where it started, a tear reported in the summary and counted in the stats.
+TEST_F(Cli, RecordDeformablesWritesOneRowPerVertexPerRecordedStep) {
+  const std::string file = write("rope.json", R"({
+    "world": {"dt": 0.02},
+    "deformables": [{"name": "rope", "type": "rope", "from": [0, 1, 0], "to": [1, 1, 0], "segments": 4,
+                     "pinned": [0], "mass": 0.5, "stiffness": {"stretch": 200, "bend": 0},
+                     "fields": [{"type": "gravity"}], "tear_strain": 0.05}]
+  })");
+  Result r = run("run " + file + " --steps 30 --record-every 10 --record-deformables " +
+                 path("d.csv") + " --stats " + path("s.json"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string text = read("d.csv");
+  EXPECT_EQ(text.substr(0, text.find('\n')), "time,deformable,vertex,px,py,pz,vx,vy,vz");
+  const auto rows = csvRows(text);
+  ASSERT_EQ(rows.size(), 5u * 4u);  // 5 vertices at the steps 0, 10, 20, 30
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    ASSERT_EQ(rows[i].size(), 9u);
+    EXPECT_EQ(rows[i][1], "rope");
+    EXPECT_EQ(rows[i][2], std::to_string(i % 5));
+    EXPECT_NEAR(std::stod(rows[i][0]), 0.02 * 10 * double(i / 5), 1e-6);
+    if (i % 5 == 0) {
+      EXPECT_EQ(rows[i][4], "1") << "the pinned vertex stays";
+    }
+  }
+  EXPECT_LT(std::stod(rows.back()[4]), 0.5) << "the free end fell";
+  nlohmann::json stats = nlohmann::json::parse(read("s.json"));
+  ASSERT_EQ(stats["deformables"].size(), 1u);
+  EXPECT_EQ(stats["deformables"][0]["vertices"], 5);
+  EXPECT_GT(stats["deformables"][0]["broken_springs"], 0);
+  EXPECT_NE(r.output.find("deformable \"rope\": spring "), std::string::npos) << r.output;
+}
+
+TEST_F(Cli, BadDeformableIsBadInputNamingThePointer) {
+  const std::string file =
+      write("bad.json", R"({"deformables": [{"type": "cloth", "resolution": [4, -1]}]})");
+  for (const char* cmd : {"validate ", "run "}) {
+    Result r = run(cmd + file);
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find(file + ": /deformables/0/resolution/1"), std::string::npos) << r.output;
+  }
+}

@@ -31,5 +31,8 @@ using JointId = Id<JointTag>;
 struct ParticleSystemTag;
 /// A particle system in a World.
 using ParticleSystemId = Id<ParticleSystemTag>;
+struct DeformableTag;
+/// A mass-spring deformable in a World.
+using DeformableId = Id<DeformableTag>;
 
 }  // namespace inertia

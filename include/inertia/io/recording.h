@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "inertia/core/types.h"
+#include "inertia/deformable/deformable.h"
 #include "inertia/dynamics/joint.h"
 #include "inertia/particles/pool.h"
 
@@ -91,6 +92,28 @@ class JointRecorder {
   std::filesystem::path path_;
   std::FILE* file_ = nullptr;
   std::string line_;
+};
+
+/// Writes `time,deformable,vertex,px,py,pz,vx,vy,vz` rows, one per vertex per recorded step.
+class DeformableRecorder {
+ public:
+  /// Opens `file` and writes the header; throws std::runtime_error naming the file on failure.
+  explicit DeformableRecorder(const std::filesystem::path& file);
+  ~DeformableRecorder();
+  DeformableRecorder(const DeformableRecorder&) = delete;
+  DeformableRecorder& operator=(const DeformableRecorder&) = delete;
+
+  static constexpr std::string_view kHeader = "time,deformable,vertex,px,py,pz,vx,vy,vz";
+
+  /// Every vertex of `deformable` at `time`, in vertex order; the column `deformable` is its name.
+  void write(Real time, const Deformable& deformable);
+  /// Flushes; throws std::runtime_error when the write failed.
+  void close();
+
+ private:
+  std::filesystem::path path_;
+  std::FILE* file_ = nullptr;
+  std::string buffer_;
 };
 
 }  // namespace inertia::io

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "inertia/core/types.h"
+#include "inertia/deformable/deformable.h"
 #include "inertia/dynamics/joint.h"
 #include "inertia/particles/particle_system.h"
 #include "inertia/world/builders.h"
@@ -47,6 +48,14 @@ struct ParticleSystemDesc {
   std::vector<Obstacle> obstacles;
 };
 
+/// A deformable as described in a scene: its settings, the model its generator built (pins
+/// included) and its force fields.
+struct DeformableDesc {
+  DeformableSettings settings;
+  MassSpringModel model;
+  std::vector<ForceField> fields;
+};
+
 /// A joint as described in a scene: its settings, with the bodies given as indices into
 /// Scene::bodies (the settings' bodyA and bodyB are filled in by instantiate()).
 struct JointDesc {
@@ -68,6 +77,7 @@ struct Scene {
   /// in file order: the order instantiate() creates them.
   std::vector<JointDesc> joints;
   std::vector<ParticleSystemDesc> particleSystems;
+  std::vector<DeformableDesc> deformables;
 };
 
 /// Appends an assembly's bodies and joints (inertia/world/builders.h) to `scene`, its joints'

@@ -9,6 +9,7 @@
 
 #include "inertia/core/id.h"
 #include "inertia/core/types.h"
+#include "inertia/deformable/deformable.h"
 #include "inertia/dynamics/rigid_body_system.h"
 #include "inertia/ode/method.h"
 #include "inertia/particles/particle_system.h"
@@ -38,6 +39,7 @@ struct PhaseTimes {
   double solver = 0;
   double integration = 0;
   double particles = 0;
+  double deformables = 0;
 };
 
 /// A simulation world. Steps are deterministic: the same world stepped the same way gives the
@@ -117,6 +119,22 @@ class World {
   /// system takes the first free slot).
   std::vector<ParticleSystemId> particleSystems() const;
 
+  /// Adds a deformable built from `model` (InvalidArgument for invalid settings or model); the
+  /// world steps it once per step with the step's dt, after the particle systems. When its
+  /// settings().collideWithBodies, every body's shapes are its obstacles for that step (one
+  /// way: the bodies do not feel it; shapes at rest are swept against, moving ones tested at
+  /// the step's end with their surface velocity). Gravity acts through its fields, as on
+  /// particles.
+  DeformableId createDeformable(const DeformableSettings& settings, const MassSpringModel& model);
+  /// Removes it; its id becomes invalid. Throws InvalidArgument for an invalid id.
+  void destroyDeformable(DeformableId id);
+  bool isValid(DeformableId id) const;
+  /// The deformable of a valid id (InvalidArgument otherwise).
+  Deformable& deformable(DeformableId id);
+  const Deformable& deformable(DeformableId id) const;
+  /// The ids of the live deformables, in slot order (the order the world steps them).
+  std::vector<DeformableId> deformables() const;
+
   /// Seconds per phase, summed over all steps.
   PhaseTimes phaseTimes() const;
 
@@ -138,11 +156,17 @@ class World {
     std::unique_ptr<ParticleSystem> system;  // null when the slot is free
     std::uint32_t generation = 1;
   };
+  struct DeformableSlot {
+    std::unique_ptr<Deformable> deformable;  // null when the slot is free
+    std::uint32_t generation = 1;
+  };
+  void stepDeformables(Real dt, bool& obstaclesGathered);
   WorldSettings settings_;
   // The world's threads: never more than settings.threads, so that results can be checked
   // across thread counts.
   std::unique_ptr<ThreadPool> threads_;
   std::vector<ParticleSlot> particleSlots_;
+  std::vector<DeformableSlot> deformableSlots_;
   RigidBodySystem bodies_;
   double time_ = 0;
   double accumulator_ = 0;

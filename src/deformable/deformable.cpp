@@ -1,0 +1,166 @@
+#include "inertia/deformable/deformable.h"
+
+#include <cmath>
+#include <string>
+
+#include "deformable/scratch.h"
+#include "inertia/core/error.h"
+
+namespace inertia {
+
+namespace {
+// Vertex i's three components of a structure-of-arrays buffer.
+Eigen::Map<Vec3> vertex(std::vector<Real>& a, std::size_t i) { return Eigen::Map<Vec3>(&a[3 * i]); }
+}  // namespace
+
+void validate(const DeformableSettings& s) {
+  require(s.integrator == ode::Method::BackwardEuler || !ode::methodName(s.integrator).empty(),
+          "DeformableSettings::integrator is not a method");
+  require(std::isfinite(s.thickness) && s.thickness > 0,
+          "DeformableSettings::thickness must be finite and > 0 (m)");
+  require(std::isfinite(s.friction) && s.friction >= 0,
+          "DeformableSettings::friction must be finite and >= 0");
+  require(std::isfinite(s.tearStrain) && s.tearStrain >= 0,
+          "DeformableSettings::tearStrain must be finite and >= 0 (0: never tears)");
+  require(std::isfinite(s.solverTolerance) && s.solverTolerance > 0 && s.solverTolerance < 1,
+          "DeformableSettings::solverTolerance must be in (0, 1)");
+  require(s.solverMaxIterations >= 1, "DeformableSettings::solverMaxIterations must be >= 1");
+}
+
+Deformable::Deformable(const DeformableSettings& settings, const MassSpringModel& model)
+    : settings_(settings), scratch_(std::make_unique<Scratch>()) {
+  validate(settings_);
+  validate(model);
+  const std::size_t n = model.vertexCount();
+  x_.resize(3 * n);
+  v_.assign(3 * n, Real(0));
+  for (std::size_t i = 0; i < n; ++i) {
+    vertex(x_, i) = model.positions[i];
+    if (!model.velocities.empty()) vertex(v_, i) = model.velocities[i];
+  }
+  masses_ = model.masses;
+  pinned_.assign(n, 0);
+  for (std::uint32_t i : model.pinned) setPinned(i, true);
+  springs_ = model.springs;
+  broken_.assign(springs_.size(), 0);
+  triangles_ = model.triangles;
+}
+
+Deformable::~Deformable() = default;
+Deformable::Deformable(Deformable&&) noexcept = default;
+Deformable& Deformable::operator=(Deformable&&) noexcept = default;
+
+namespace {
+void checkVertex(std::size_t vertex, std::size_t n, const char* who) {
+  require(vertex < n, std::string("Deformable::") + who + ": vertex " + std::to_string(vertex) +
+                          " does not exist (" + std::to_string(n) + " vertices)");
+}
+}  // namespace
+
+Vec3 Deformable::position(std::size_t i) const {
+  checkVertex(i, vertexCount(), "position");
+  return Eigen::Map<const Vec3>(&x_[3 * i]);
+}
+
+Vec3 Deformable::velocity(std::size_t i) const {
+  checkVertex(i, vertexCount(), "velocity");
+  return Eigen::Map<const Vec3>(&v_[3 * i]);
+}
+
+void Deformable::setPosition(std::size_t i, const Vec3& x) {
+  checkVertex(i, vertexCount(), "setPosition");
+  require(x.allFinite(), "Deformable::setPosition: the position must be finite");
+  vertex(x_, i) = x;
+}
+
+void Deformable::setVelocity(std::size_t i, const Vec3& v) {
+  checkVertex(i, vertexCount(), "setVelocity");
+  require(v.allFinite(), "Deformable::setVelocity: the velocity must be finite");
+  if (!pinned_[i]) vertex(v_, i) = v;
+}
+
+bool Deformable::isPinned(std::size_t i) const {
+  checkVertex(i, vertexCount(), "isPinned");
+  return pinned_[i] != 0;
+}
+
+void Deformable::setPinned(std::size_t i, bool pinned) {
+  checkVertex(i, vertexCount(), "setPinned");
+  pinned_[i] = pinned ? 1 : 0;
+  if (pinned) vertex(v_, i).setZero();
+}
+
+std::size_t Deformable::brokenCount() const {
+  std::size_t count = 0;
+  for (std::uint8_t b : broken_) count += b;
+  return count;
+}
+
+std::size_t Deformable::addField(const ForceField& field) {
+  validate(field);
+  fields_.push_back(field);
+  return fields_.size() - 1;
+}
+
+std::size_t Deformable::addObstacle(const Obstacle& obstacle) {
+  require(obstacle.pose.p.allFinite() && obstacle.pose.q.coeffs().allFinite() &&
+              std::fabs(obstacle.pose.q.norm() - 1) < Real(1e-3),
+          "Deformable::addObstacle: the pose must be finite with a unit quaternion");
+  obstacles_.push_back(obstacle);
+  obstacles_.back().pose.q.normalize();
+  auto& bounds = scratch_->obstacleBounds;
+  bounds.insert(bounds.begin() + std::ptrdiff_t(obstacles_.size() - 1),
+                worldBounds(obstacle.collider.shape(), obstacles_.back().pose));
+  return obstacles_.size() - 1;
+}
+
+void Deformable::setMovingObstacles(std::span<const MovingObstacle> obstacles) {
+  for (const MovingObstacle& o : obstacles)
+    require(o.collider && o.pose.p.allFinite() && o.pose.q.coeffs().allFinite() &&
+                o.linearVelocity.allFinite() && o.angularVelocity.allFinite() &&
+                o.center.allFinite(),
+            "Deformable::setMovingObstacles: an obstacle needs a collider and finite pose and "
+            "velocities");
+  moving_.assign(obstacles.begin(), obstacles.end());
+  // Their bounds follow the static obstacles' in obstacleBounds.
+  auto& bounds = scratch_->obstacleBounds;
+  bounds.resize(obstacles_.size());
+  for (const MovingObstacle& o : moving_)
+    bounds.push_back(worldBounds(o.collider->shape(), o.pose));
+}
+
+// The step as a list of stages (each in its own file).
+void Deformable::step(Real h) {
+  require(std::isfinite(h) && h > 0, "Deformable::step: h must be finite and > 0 (s)");
+  tearEvents_.clear();
+  scratch_->start = x_;
+  if (settings_.integrator == ode::Method::BackwardEuler)
+    integrateImplicit(h);
+  else
+    integrateExplicit(h);
+  time_ += double(h);
+  collide();
+  tear();
+}
+
+double Deformable::kineticEnergy() const {
+  double e = 0;
+  for (std::size_t i = 0; i < vertexCount(); ++i)
+    e += 0.5 * double(masses_[i]) * Eigen::Map<const Vec3>(&v_[3 * i]).cast<double>().squaredNorm();
+  return e;
+}
+
+double Deformable::springEnergy() const {
+  double e = 0;
+  for (std::size_t k = 0; k < springs_.size(); ++k) {
+    if (broken_[k]) continue;
+    const Spring& s = springs_[k];
+    const double l = (Eigen::Map<const Vec3>(&x_[3 * s.a]) - Eigen::Map<const Vec3>(&x_[3 * s.b]))
+                         .cast<double>()
+                         .norm();
+    e += 0.5 * double(s.stiffness) * (l - double(s.restLength)) * (l - double(s.restLength));
+  }
+  return e;
+}
+
+}  // namespace inertia

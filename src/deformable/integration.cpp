@@ -1,0 +1,62 @@
+// The integration stage of a deformable's step: the ode layer's explicit methods on the whole
+// vertex state, or Baraff and Witkin's implicit step (implicit_euler.cpp).
+#include <algorithm>
+#include <variant>
+
+#include "deformable/scratch.h"
+#include "deformable/spring_forces.h"
+#include "inertia/ode/step.h"
+
+namespace inertia {
+
+namespace {
+
+// The linear drag coefficient k (kg/s) a field puts on a vertex at x (F = -k v + ...), for the
+// implicit step's dF/dv; 0 for fields that are not linear in v.
+Real linearDamping(const ForceField& f, const Vec3& x) {
+  if (f.region && !f.region->contains(x)) return 0;
+  if (const auto* drag = std::get_if<LinearDragField>(&f.field)) return drag->k;
+  if (const auto* wind = std::get_if<WindField>(&f.field)) return wind->k;
+  return 0;
+}
+
+}  // namespace
+
+// x'' = (fields + springs) / m, pinned vertices held (a = 0, and their v is 0).
+void Deformable::integrateExplicit(Real h) {
+  Scratch& w = *scratch_;
+  const std::size_t n3 = x_.size();
+  w.forces.resize(n3);
+  auto accel = [&](Real t, ode::ConstView<Real> x, ode::ConstView<Real> v, ode::View<Real> a) {
+    a.setZero();
+    applyFields(fields_, FieldBatch{t, {x.data(), n3}, {v.data(), n3}, masses_, {a.data(), n3}});
+    std::fill(w.forces.begin(), w.forces.end(), Real(0));
+    detail::addSpringForces<Real>(springs_, broken_, x.data(), v.data(), w.forces.data());
+    for (std::size_t i = 0; i < n3; ++i)
+      a[Eigen::Index(i)] =
+          pinned_[i / 3] ? Real(0) : a[Eigen::Index(i)] + w.forces[i] / masses_[i / 3];
+  };
+  ode::step(settings_.integrator, accel, Real(time_), h, x_, v_, w.workspace);
+}
+
+void Deformable::integrateImplicit(Real h) {
+  Scratch& w = *scratch_;
+  const std::size_t n = vertexCount(), n3 = x_.size();
+  w.fieldAcceleration.assign(n3, Real(0));
+  applyFields(fields_, FieldBatch{Real(time_), x_, v_, masses_, w.fieldAcceleration});
+  w.fieldDamping.assign(n, Real(0));
+  for (const ForceField& f : fields_)
+    for (std::size_t i = 0; i < n; ++i)
+      w.fieldDamping[i] += linearDamping(f, Eigen::Map<const Vec3>(&x_[3 * i]));
+  const detail::ImplicitEulerInput input{.springs = springs_,
+                                         .broken = broken_,
+                                         .masses = masses_,
+                                         .pinned = pinned_,
+                                         .fieldAcceleration = w.fieldAcceleration,
+                                         .fieldDamping = w.fieldDamping,
+                                         .tolerance = settings_.solverTolerance,
+                                         .maxIterations = settings_.solverMaxIterations};
+  lastSolve_ = w.implicit.step(input, h, x_, v_);
+}
+
+}  // namespace inertia

@@ -1,0 +1,24 @@
+// A deformable's step scratch: buffers sized at the first step and reused (no allocation in a
+// step after warm-up, except the obstacles' caches when they change).
+#pragma once
+
+#include <vector>
+
+#include "deformable/implicit_euler.h"
+#include "inertia/deformable/deformable.h"
+#include "inertia/geometry/bounds.h"
+#include "inertia/ode/workspace.h"
+
+namespace inertia {
+
+struct Deformable::Scratch {
+  ode::Workspace<Real> workspace;       // the ode layer's stage buffers (explicit methods)
+  std::vector<Real> forces;             // N, 3 per vertex
+  std::vector<Real> fieldAcceleration;  // m/s^2, 3 per vertex
+  std::vector<Real> fieldDamping;       // kg/s per vertex (linear drag and wind)
+  std::vector<Real> start;              // positions at the step's start, for swept collisions
+  detail::ImplicitEuler implicit;
+  std::vector<Aabb> obstacleBounds;  // world bounds of obstacles_, then of moving_
+};
+
+}  // namespace inertia

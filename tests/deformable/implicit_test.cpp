@@ -1,0 +1,143 @@
+// Baraff-Witkin's implicit step: the modified PCG's solution against the linear system built
+// independently (dense, from finite differences of the forces), pinned vertices that stay.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "deformable/implicit_euler.h"
+#include "deformable/spring_forces.h"
+#include "inertia/deformable/deformable.h"
+#include "inertia/deformable/generators.h"
+
+namespace inertia {
+namespace {
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+// The total spring force on every vertex, in double.
+VectorXd forces(const MassSpringModel& m, const std::vector<std::uint8_t>& broken,
+                const VectorXd& x, const VectorXd& v) {
+  VectorXd f = VectorXd::Zero(x.size());
+  detail::addSpringForces<double>(m.springs, broken, x.data(), v.data(), f.data());
+  return f;
+}
+
+// dF/dx by central differences of the whole force vector (step 1e-7 m; truncation O(delta^2),
+// rounding O(eps |F| / delta) ~ 1e-9 relative).
+MatrixXd forceJacobian(const MassSpringModel& m, const std::vector<std::uint8_t>& broken,
+                       const VectorXd& x, const VectorXd& v) {
+  MatrixXd k(x.size(), x.size());
+  const double delta = 1e-7;
+  for (Eigen::Index c = 0; c < x.size(); ++c) {
+    VectorXd plus = x, minus = x;
+    plus[c] += delta, minus[c] -= delta;
+    k.col(c) = (forces(m, broken, plus, v) - forces(m, broken, minus, v)) / (2 * delta);
+  }
+  return k;
+}
+
+struct ClothCase {
+  MassSpringModel model;
+  std::vector<std::uint8_t> broken, pinned;
+  std::vector<Real> masses, acceleration, damping;
+  VectorXd x, v;
+};
+
+// A 4 x 3 cloth stretched by 8% (every spring longer than its rest length, where the analytic
+// Jacobian is exact), moving, undamped (so that dF/dv = 0 and F does not depend on v), under
+// gravity, two corners pinned.
+ClothCase stretchedCloth() {
+  ClothCase s;
+  s.model = cloth({.size = {1, 0.8f},
+                   .resolution = {4, 3},
+                   .mass = 0.4f,
+                   .stiffness = {.stretch = 3000, .shear = 300, .bend = 20}});
+  const std::size_t n = s.model.vertexCount();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  s.x.resize(3 * Eigen::Index(n));
+  s.v.resize(3 * Eigen::Index(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d p = s.model.positions[i].cast<double>() * 1.08;
+    s.x.segment<3>(3 * Eigen::Index(i)) =
+        Eigen::Vector3d(Real(p.x()), Real(p.y() + 0.001 * u(rng)), Real(p.z()));
+    s.v.segment<3>(3 * Eigen::Index(i)) = Eigen::Vector3d(Real(u(rng)), Real(u(rng)), Real(u(rng)));
+  }
+  s.pinned.assign(n, 0);
+  s.pinned[0] = s.pinned[4] = 1;
+  for (std::size_t i : {0, 4}) s.v.segment<3>(3 * Eigen::Index(i)).setZero();
+  s.broken.assign(s.model.springs.size(), 0);
+  s.masses = s.model.masses;
+  s.acceleration.assign(3 * n, 0);
+  for (std::size_t i = 0; i < n; ++i) s.acceleration[3 * i + 1] = Real(-9.81);
+  s.damping.assign(n, 0);
+  return s;
+}
+
+// The solver's dv satisfies the system A dv = b built here independently, on the free
+// components, to the promised tolerance: the PCG stops on the preconditioned residual
+// r^T P^-1 r <= tol^2 b^T P^-1 b, which bounds |r| / |b| by tol sqrt(max P / min P).
+TEST(ImplicitEuler, ModifiedPcgSolvesTheSystemBuiltFromFiniteDifferences) {
+  ClothCase s = stretchedCloth();
+  const std::size_t n = s.masses.size();
+  const double h = 1.0 / 60, tol = 1e-8;
+  std::vector<Real> x(3 * n), v(3 * n);
+  for (std::size_t i = 0; i < 3 * n; ++i)
+    x[i] = Real(s.x[Eigen::Index(i)]), v[i] = Real(s.v[Eigen::Index(i)]);
+  detail::ImplicitEuler solver;
+  const detail::ImplicitEulerInput in{s.model.springs, s.broken,  s.masses, s.pinned,
+                                      s.acceleration,  s.damping, tol,      1000};
+  const ode::LinearSolveReport report = solver.step(in, Real(h), x, v);
+  EXPECT_TRUE(report.converged);
+  EXPECT_GT(report.iterations, 3);
+
+  const MatrixXd k = forceJacobian(s.model, s.broken, s.x, s.v);
+  MatrixXd a = -h * h * k;
+  VectorXd external(3 * Eigen::Index(n));
+  for (std::size_t i = 0; i < 3 * n; ++i) {
+    a(Eigen::Index(i), Eigen::Index(i)) += double(s.masses[i / 3]);
+    external[Eigen::Index(i)] = double(s.masses[i / 3]) * double(s.acceleration[i]);
+  }
+  const VectorXd b = h * (forces(s.model, s.broken, s.x, s.v) + external + h * k * s.v);
+  VectorXd residual = a * solver.solution() - b, filteredB = b;
+  for (std::size_t i = 0; i < n; ++i)
+    if (s.pinned[i])
+      residual.segment<3>(3 * Eigen::Index(i)).setZero(),
+          filteredB.segment<3>(3 * Eigen::Index(i)).setZero();
+  const VectorXd diagonal = a.diagonal();
+  const double bound = tol * std::sqrt(diagonal.maxCoeff() / diagonal.minCoeff());
+  // Plus the finite differences' own error (1e-9 relative of A).
+  EXPECT_LE(residual.norm() / filteredB.norm(), bound + 1e-7);
+  EXPECT_LE(report.error, bound);
+  for (std::size_t i : {0, 4})
+    EXPECT_TRUE(solver.solution().segment<3>(3 * Eigen::Index(i)).isZero(0));
+}
+
+// Pinned vertices keep their positions to the bit, whatever pulls on them, and free ones move.
+TEST(ImplicitEuler, PinnedVerticesDoNotMove) {
+  const int n = 8;
+  MassSpringModel m = cloth({.size = {1, 1},
+                             .resolution = {n, n},
+                             .mass = 0.3f,
+                             .stiffness = {.stretch = 1e4f, .shear = 1e3f, .bend = 10},
+                             .damping = 0.05f});
+  m.pinned = {0, std::uint32_t(n), std::uint32_t(n * (n + 1) / 2 + n / 2)};
+  Deformable d({}, m);
+  d.addField({GravityField{}});
+  d.addField({WindField{Vec3(3, 0, 1), Real(0.02)}});
+  std::vector<Vec3> start;
+  for (std::uint32_t i : m.pinned) start.push_back(d.position(i));
+  for (int s = 0; s < 90; ++s) {
+    d.step(Real(1) / 60);
+    ASSERT_TRUE(d.lastSolve().converged) << "step " << s;
+    for (std::size_t k = 0; k < m.pinned.size(); ++k) {
+      ASSERT_EQ(d.position(m.pinned[k]), start[k]);
+      ASSERT_EQ(d.velocity(m.pinned[k]), Vec3::Zero());
+    }
+  }
+  EXPECT_LT(d.position(std::size_t(n * (n + 1))).y(), -0.3f);
+}
+
+}  // namespace
+}  // namespace inertia

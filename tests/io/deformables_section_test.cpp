@@ -1,0 +1,91 @@
+// The "deformables" section of scene files: each generator's keys, and errors that name the
+// JSON pointer.
+#include <gtest/gtest.h>
+
+#include "inertia/io/scene.h"
+
+namespace inertia::io {
+namespace {
+
+Scene parse(const std::string& deformables) {
+  return parseScene(R"({"deformables": [)" + deformables + "]}", "test.json");
+}
+
+// The error's pointer for a scene that must be refused.
+std::string pointerOf(const std::string& deformables) {
+  try {
+    parse(deformables);
+  } catch (const SceneError& e) {
+    return e.pointer();
+  }
+  return "(accepted)";
+}
+
+TEST(DeformablesSection, ClothAsInTheDesignDocument) {
+  const Scene s = parse(
+      R"({ "name": "flag", "type": "cloth", "position": [0, 3, 0], "orientation": [1, 0, 0, 0],
+      "size": [2, 1], "resolution": [40, 20], "mass": 0.5, "thickness": 0.01,
+      "stiffness": { "stretch": 5000, "shear": 500, "bend": 5 }, "damping": 0.01,
+      "integrator": "implicit_euler", "self_collision": false, "friction": 0.3,
+      "pinned": [0, 20], "attach": [], "tear_strain": 0,
+      "fields": [ { "type": "gravity" }, { "type": "wind", "velocity": [3, 0, 0], "k": 0.01 } ] })");
+  ASSERT_EQ(s.deformables.size(), 1u);
+  const DeformableDesc& d = s.deformables[0];
+  EXPECT_EQ(d.settings.name, "flag");
+  EXPECT_EQ(d.settings.integrator, ode::Method::BackwardEuler);
+  EXPECT_EQ(d.model.vertexCount(), 41u * 21u);
+  EXPECT_FLOAT_EQ(d.model.masses[0] * Real(41 * 21), Real(0.5));
+  EXPECT_EQ(d.model.pinned, (std::vector<std::uint32_t>{0, 20}));
+  EXPECT_TRUE(d.model.positions[0].isApprox(Vec3(-1, 3, -0.5f)));
+  EXPECT_EQ(d.fields.size(), 2u);
+  auto world = instantiate(s);
+  ASSERT_EQ(world->deformables().size(), 1u);
+  EXPECT_EQ(world->deformable(world->deformables()[0]).fields().size(), 2u);
+}
+
+TEST(DeformablesSection, RopeSoftBodiesAndMesh) {
+  const Scene s = parse(R"(
+    { "type": "rope", "from": [0, 0, 0], "to": [0, -2, 0], "segments": 8, "pinned": [0], "integrator": "rk4" },
+    { "type": "soft_body", "shape": { "type": "box", "half_extents": [0.5, 0.5, 0.5] }, "resolution": [2, 3, 4] },
+    { "type": "soft_body", "shape": { "type": "sphere", "radius": 0.5 }, "resolution": 1 },
+    { "type": "mesh", "vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0]], "springs": [[0, 1], [1, 2], [2, 0]],
+      "triangles": [[0, 1, 2]], "mass": 0.3 })");
+  ASSERT_EQ(s.deformables.size(), 4u);
+  EXPECT_EQ(s.deformables[0].model.vertexCount(), 9u);
+  EXPECT_EQ(s.deformables[0].settings.integrator, ode::Method::Rk4);
+  EXPECT_EQ(s.deformables[0].settings.name, "0");
+  EXPECT_EQ(s.deformables[1].model.vertexCount(), 3u * 4 * 5);
+  EXPECT_EQ(s.deformables[2].model.vertexCount(), 43u);
+  EXPECT_EQ(s.deformables[3].model.springs.size(), 3u);
+  EXPECT_FLOAT_EQ(s.deformables[3].model.springs[0].restLength, 1);
+}
+
+TEST(DeformablesSection, ErrorsNameTheJsonPointer) {
+  EXPECT_EQ(pointerOf(R"({"type": "cloth", "sise": [1, 1]})"), "/deformables/0/sise");
+  EXPECT_EQ(pointerOf(R"({"type": "sheet"})"), "/deformables/0/type");
+  EXPECT_EQ(pointerOf(R"({"type": "rope", "from": [0, 0, 0], "to": [1, 0, 0], "size": [1, 1]})"),
+            "/deformables/0/size");
+  EXPECT_EQ(pointerOf(R"({"type": "cloth", "resolution": [4, 0]})"), "/deformables/0/resolution/1");
+  EXPECT_EQ(pointerOf(R"({"type": "cloth", "resolution": [2, 2], "pinned": [0, 9]})"),
+            "/deformables/0/pinned/1");
+  EXPECT_EQ(pointerOf(R"({"type": "cloth", "stiffness": {"stretch": -1}})"),
+            "/deformables/0/stiffness/stretch");
+  EXPECT_EQ(pointerOf(R"({"type": "cloth", "integrator": "leapfrog"})"),
+            "/deformables/0/integrator");
+  EXPECT_EQ(pointerOf(R"({"type": "cloth", "self_collision": true})"),
+            "/deformables/0/self_collision");
+  EXPECT_EQ(pointerOf(R"({"type": "cloth", "attach": [{"vertex": 0}]})"),
+            "/deformables/0/attach/0");
+  EXPECT_EQ(pointerOf(R"({"type": "rope", "from": [0, 0, 0], "to": [0, 0, 0]})"), "/deformables/0");
+  EXPECT_EQ(pointerOf(R"({"type": "soft_body", "shape": {"type": "cone"}})"),
+            "/deformables/0/shape/type");
+  EXPECT_EQ(
+      pointerOf(R"({"type": "mesh", "vertices": [[0, 0, 0], [1, 0, 0]], "springs": [[0, 2]]})"),
+      "/deformables/0/springs/0/1");
+  EXPECT_EQ(
+      pointerOf(R"({"type": "cloth"}, {"type": "cloth", "fields": [{"type": "drag", "k": -1}]})"),
+      "/deformables/1/fields/0/k");
+}
+
+}  // namespace
+}  // namespace inertia::io
