@@ -28,16 +28,29 @@ void aba(const Model<S>& model, const ConstRef<S>& q, const ConstRef<S>& qd, con
   for (int i = n - 1; i >= 0; --i) {
     const Link<S>& L = model.link(i);
     const int k = L.vIndex, m = L.nv;
-    auto Si = Sm.middleCols(k, m);
-    auto Ui = ws.U.middleCols(k, m);
-    Ui.noalias() = ws.IA[i] * Si;
-    typename Workspace<S>::SmallMatrix D = Si.transpose() * Ui;
-    D.diagonal() += model.armature().segment(k, m);
-    ws.Dinv[i] = D.inverse();
-    ws.u.segment(k, m) = tau.segment(k, m) - Si.transpose() * ws.pA[i];
-    if (L.parent < 0) continue;
-    const Matrix6<S> Ia = ws.IA[i] - Ui * ws.Dinv[i] * Ui.transpose();
-    const Vector6<S> pa = ws.pA[i] + Ia * ws.c[i] + Ui * (ws.Dinv[i] * ws.u.segment(k, m));
+    Matrix6<S> Ia;
+    Vector6<S> pa;
+    if (m == 1) {  // revolute and prismatic joints: D and u are scalars
+      const Vector6<S> U = ws.IA[i] * Sm.col(k);
+      const S Dinv = S(1) / (Sm.col(k).dot(U) + model.armature()(k));
+      ws.U.col(k) = U;
+      ws.Dinv[i].setConstant(1, 1, Dinv);
+      ws.u(k) = tau(k) - Sm.col(k).dot(ws.pA[i]);
+      if (L.parent < 0) continue;
+      Ia = ws.IA[i] - (Dinv * U) * U.transpose();
+      pa = ws.pA[i] + Ia * ws.c[i] + (Dinv * ws.u(k)) * U;
+    } else {
+      auto Si = Sm.middleCols(k, m);
+      auto Ui = ws.U.middleCols(k, m);
+      Ui.noalias() = ws.IA[i] * Si;
+      typename Workspace<S>::SmallMatrix D = Si.transpose() * Ui;
+      D.diagonal() += model.armature().segment(k, m);
+      ws.Dinv[i] = D.inverse();
+      ws.u.segment(k, m) = tau.segment(k, m) - Si.transpose() * ws.pA[i];
+      if (L.parent < 0) continue;
+      Ia = ws.IA[i] - Ui * ws.Dinv[i] * Ui.transpose();
+      pa = ws.pA[i] + Ia * ws.c[i] + Ui * (ws.Dinv[i] * ws.u.segment(k, m));
+    }
     ws.IA[L.parent] += ws.Xup[i].transformInertiaToParent(Ia);
     ws.pA[L.parent] += ws.Xup[i].applyTransposeForce(pa);
   }
@@ -49,6 +62,11 @@ void aba(const Model<S>& model, const ConstRef<S>& q, const ConstRef<S>& qd, con
     const Link<S>& L = model.link(i);
     const int k = L.vIndex, m = L.nv;
     const Vector6<S> aParent = ws.Xup[i].apply(L.parent < 0 ? a0 : ws.a[L.parent]) + ws.c[i];
+    if (m == 1) {
+      qdd(k) = ws.Dinv[i](0, 0) * (ws.u(k) - ws.U.col(k).dot(aParent));
+      ws.a[i] = aParent + Sm.col(k) * qdd(k);
+      continue;
+    }
     qdd.segment(k, m) =
         ws.Dinv[i] * (ws.u.segment(k, m) - ws.U.middleCols(k, m).transpose() * aParent);
     ws.a[i] = aParent + Sm.middleCols(k, m) * qdd.segment(k, m);

@@ -102,9 +102,21 @@ struct PluckerTransform {
   }
   /// X^T I X: a spatial inertia (or articulated inertia) from B's coordinates to A's
   /// (Featherstone eq. 2.66).
+  /// With I = [A B; B^T M] and the blocks turned into A's axes (A' = E^T A E, ...), the product
+  /// of the 6x6 matrices reduces to [A' - B' R + R B'^T - R M' R, B' + R M'; B'^T - M' R, M'],
+  /// R = skew(r): a third of the work of the full products.
   Matrix6<S> transformInertiaToParent(const Matrix6<S>& I) const {
-    const Matrix6<S> X = matrix();
-    return X.transpose() * I * X;
+    const Matrix3<S> A = E.transpose() * I.template topLeftCorner<3, 3>() * E;
+    const Matrix3<S> B = E.transpose() * I.template topRightCorner<3, 3>() * E;
+    const Matrix3<S> M = E.transpose() * I.template bottomRightCorner<3, 3>() * E;
+    const Matrix3<S> R = skew(r);
+    const Matrix3<S> RM = R * M, BR = B * R;
+    Matrix6<S> out;
+    out.template topLeftCorner<3, 3>() = A - BR - BR.transpose() - RM * R;
+    out.template topRightCorner<3, 3>() = B + RM;
+    out.template bottomLeftCorner<3, 3>() = B.transpose() + RM.transpose();
+    out.template bottomRightCorner<3, 3>() = M;
+    return out;
   }
   /// The inverse, A_X_B.
   PluckerTransform inverse() const { return {E.transpose(), -(E * r)}; }
