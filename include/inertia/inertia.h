@@ -5,6 +5,7 @@
 #include "inertia/core/math.h"
 #include "inertia/core/types.h"
 #include "inertia/ode/ode.h"
+#include "inertia/articulation/articulation.h"
 #include "inertia/collision/queries.h"
 #include "inertia/world/builders.h"
 #include "inertia/world/world.h"
