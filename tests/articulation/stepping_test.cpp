@@ -391,3 +391,28 @@ TEST(Stepping, FloatFollowsDouble) {
   EXPECT_LT((f.q().cast<double>() - d.q()).norm(), tol);
   EXPECT_GT((d.q() - Eigen::Vector2d(1.2, -0.6)).norm(), 0.1);  // it moved
 }
+
+// A velocity drive (no stiffness) with gain c towards vt: each step solves
+// m (v' - v) = h c (vt - v'), so v_n = vt + (v0 - vt) / (1 + h c / m)^n exactly.
+TEST(Stepping, VelocityDriveIsExactBackwardEuler) {
+  const double m = 2, c = 5, h = 0.01, vt = 0.8;
+  Articulation<double> a(slider(m, {.drive = {.damping = c, .targetVelocity = vt}}));
+  for (int n = 1; n <= 100; ++n) {
+    a.step(h);
+    EXPECT_NEAR(a.qd()(0), vt - vt / std::pow(1 + h * c / m, n), 1e-14);
+  }
+}
+
+// Armature Ja adds to the joint's inertia: (m l^2 + I + Ja) theta'' = -m g l sin(theta).
+TEST(Stepping, ArmatureAddsToTheJointInertia) {
+  const double l = 0.7, m = 1.5, g = 9.81, I = 0.02, Ja = 0.3, theta = 0.9;
+  Model<double> model;
+  model.addLink({.name = "rod",
+                 .joint = {.armature = Ja},
+                 .inertia = {m, Vector3<double>(0, -l, 0), I * Matrix3<double>::Identity()}});
+  const double expected = -m * g * l * std::sin(theta) / (m * l * l + I + Ja);
+  const VectorX<double> zero = VectorX<double>::Zero(1);
+  EXPECT_NEAR(aba(model, scalar(theta), zero, zero)(0), expected, 1e-14);
+  EXPECT_NEAR(forwardDynamicsCrba(model, scalar(theta), zero, zero)(0), expected, 1e-14);
+  EXPECT_NEAR(rnea(model, scalar(theta), zero, scalar(expected))(0), 0.0, 1e-14);
+}
