@@ -146,8 +146,8 @@ class Model {
   void setDrive(int dof, const Drive<S>& drive);
   /// True when the degree of freedom has a drive (stiffness or damping > 0).
   bool hasDrive(int dof) const { return drives_[dof].stiffness > 0 || drives_[dof].damping > 0; }
-  /// The degree of freedom of each velocity coordinate's joint, or -1 where q and v differ
-  /// (spherical and floating joints): its q index otherwise.
+  /// Per degree of freedom: the index in q of its coordinate for revolute and prismatic joints
+  /// (where q and qd match one to one), -1 for spherical and floating joints.
   const std::vector<int>& scalarQIndex() const { return scalarQ_; }
 
   /// Gravity in the base frame (m/s^2).
