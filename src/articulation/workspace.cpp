@@ -1,0 +1,23 @@
+// Sizing of the algorithms' scratch for one model.
+#include "inertia/articulation/dynamics.h"
+
+namespace inertia::articulation {
+
+template <class S>
+void Workspace<S>::resize(const Model<S>& model) {
+  const auto n = static_cast<std::size_t>(model.linkCount());
+  Xup.resize(n);
+  for (auto* vs : {&v, &a, &c, &pA, &f}) vs->resize(n);
+  IA.resize(n);
+  Dinv.resize(n);
+  U.resize(6, model.nv());
+  u.resize(model.nv());
+  bias.resize(model.nv());
+  rhs.resize(model.nv());
+  H.resize(model.nv(), model.nv());
+}
+
+template struct Workspace<float>;
+template struct Workspace<double>;
+
+}  // namespace inertia::articulation
