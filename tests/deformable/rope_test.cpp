@@ -13,13 +13,18 @@ namespace {
 constexpr double kG = 9.81;
 
 // Steps until every vertex is slower than `speed` (m/s), at most `maxSteps`; returns the steps.
+// Steps at 1/60 s until every vertex has stayed slower than `speed` for 150 steps in a row
+// (2.5 s, longer than the slowest mode's period, about 2 s): one slow step alone may be an
+// oscillation's turning point, where the displacement is largest. Returns the steps taken.
 int settle(Deformable& d, double speed, int maxSteps) {
+  int quiet = 0;
   for (int s = 0; s < maxSteps; ++s) {
     d.step(Real(1) / 60);
     double fastest = 0;
     for (std::size_t i = 0; i < d.vertexCount(); ++i)
       fastest = std::max(fastest, double(d.velocity(i).norm()));
-    if (fastest < speed) return s + 1;
+    quiet = fastest < speed ? quiet + 1 : 0;
+    if (quiet == 150) return s + 1;
   }
   return maxSteps;
 }

@@ -105,9 +105,15 @@ TEST(DeformableMomentum, SpringsAloneConserveMomentum) {
     const int steps = 60;
     for (int s = 0; s < steps; ++s) d.step(Real(1) / 600);
     // Velocities are stored in Real: each step rounds every velocity by eps relative, a
-    // random walk bounded by steps * eps * sum m |v|.
+    // random walk bounded by steps * eps * sum m |v|. Backward Euler's linear solve stops at a
+    // relative residual of solverTolerance, and its residual's sum is a momentum error (the
+    // springs' Jacobians sum to zero over the vertices, so only the residual breaks the
+    // balance): at most solverTolerance of the step's change, below sum m |v| here, per step.
+    // That term is what double precision sees (2e-13 against rounding's 1e-13).
     const double eps = std::numeric_limits<Real>::epsilon();
-    EXPECT_LE((momentum().first - p0).norm(), 4 * steps * eps * scale) << ode::methodName(method);
+    const double solve = method == ode::Method::BackwardEuler ? 1e-12 : 0;
+    EXPECT_LE((momentum().first - p0).norm(), (4 * eps + solve) * steps * scale)
+        << ode::methodName(method);
   }
 }
 

@@ -36,8 +36,10 @@ struct ClosestPoints {
 /// a capsule's segment, the box, cylinder or hull), then the radii; EPA supplies the normal
 /// and points when the cores overlap. Accuracy: polytope pairs are exact up to rounding (a few
 /// ulps of the coordinates); pairs with a cylinder to a relative 1e-6 in float (1e-12 in double),
-/// plus the same rounding. That is the accuracy of the distance and the points; the normal of
-/// nearly touching shapes is only as good as pointB - pointA, which carries their rounding.
+/// plus the same rounding. That is the accuracy of the distance and the points, except that in
+/// double a point on a cylinder's curved side may lie up to 1e-10 of the pair's size off it; the
+/// normal of nearly touching shapes is only as good as pointB - pointA, which carries their
+/// rounding.
 ClosestPoints closestPoints(const Collider& a, const Transform& poseA, const Collider& b,
                             const Transform& poseB);
 
