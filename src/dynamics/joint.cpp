@@ -172,11 +172,13 @@ JointAxis freeAxis(const char* settings, const std::optional<JointLimits>& limit
 }
 
 // Frames on A and B whose x axes are the joint's axis in each body (axisA, axisB), and whose y
-// axes coincide now, so that the twist about the axis is 0 at creation.
+// axes are now related by the shortest rotation from A's axis to B's, so that the twist about
+// the axis is 0 at creation, also where the axes are apart (a ball joint created at a swing).
 void axisFrames(const Data& D, JointRecord& j, const Vec3& axisA, const Vec3& axisB) {
   j.frameA.q = frameWithAxes(axisA, axisA.unitOrthogonal());
   const Quat qA = rotationOf(D, j.bodyA), qB = rotationOf(D, j.bodyB);
-  const Vec3 yWorld = qA * (j.frameA.q * Vec3::UnitY());
+  const Quat swing = Quat::FromTwoVectors(qA * axisA, qB * axisB);
+  const Vec3 yWorld = swing * (qA * (j.frameA.q * Vec3::UnitY()));
   j.frameB.q = frameWithAxes(axisB, qB.conjugate() * yWorld);
 }
 

@@ -85,17 +85,34 @@ EulerFrame eulerFrame(const Quat& qA, const Quat& qB) {
 }
 
 // Swing-twist decomposition of qA^-1 qB about the x axis, q = swing twist: the swing's angle
-// (rad, >= 0) and world axis, and the twist angle (rad, in (-pi, pi]).
+// (rad, >= 0) and world axis, the twist angle (rad, in (-pi, pi]), and the world axis whose
+// velocity row measures the twist's rate.
+//
+// The rates: with q = (w, v) and the relative angular velocity in A's frame u = qA^-1 (wB - wA),
+// dq/dt = 1/2 (0, u) q. The swing is the angle between x and b = q x, so its rate is
+// u . (x cross b) / |x cross b|: the swing axis. The twist is 2 atan2(v_x, w), whose rate is
+// u . g with
+//   g = (w^2 x + w (v cross x) + v_x v) / (w^2 + v_x^2),
+// which is (x + b) / (1 + x . b) at zero twist: B's own x axis, the obvious row, is wrong by
+// half the swing and makes a twist limit at a wide swing (a raised arm) pump energy in.
 struct SwingTwist {
   Real swing = 0;
   Vec3 swingAxis = Vec3::UnitY();
   Real twist = 0;
+  Vec3 twistAxis = Vec3::UnitX();
 };
 
 SwingTwist swingTwist(const Quat& qA, const Quat& qB) {
   const Quat q = qA.conjugate() * qB;
   SwingTwist st;
   st.twist = twistAngle(qA, qB);
+  const Real norm2 = q.w() * q.w() + q.x() * q.x();
+  // cos^2 of half the swing: near a swing of pi the twist is undefined and B's axis stands in.
+  st.twistAxis = norm2 > Real(1e-4)
+                     ? Vec3(qA * ((q.w() * q.w() * Vec3::UnitX() +
+                                   q.w() * q.vec().cross(Vec3::UnitX()) + q.x() * q.vec()) /
+                                  norm2))
+                     : axisOf(qB, 0);
   const Real t = std::hypot(q.w(), q.x());
   const Quat twist = t > Real(1e-9) ? Quat(q.w() / t, q.x() / t, 0, 0) : Quat::Identity();
   Quat swing = q * twist.conjugate();
@@ -206,7 +223,7 @@ void freeRows(JointConstraint& c, const JointRecord& j, const Frame& f, JointPar
         p.cone.row = angularRow(st.swingAxis);
         p.cone.prepare(a, b);
         c.swing = st.swing;
-        use(3, angularRow(axisOf(f.qB, 0)), st.twist);
+        use(3, angularRow(st.twistAxis), st.twist);
       }
       break;
     case JointType::Hinge:

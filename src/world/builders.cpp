@@ -57,6 +57,19 @@ AssemblyJoint ballAt(const Assembly& as, int a, int b, const Vec3& point, Real f
           a, b};
 }
 
+// A ball joint through a world point whose swing cone and twist limits are about a world axis
+// (zero swing and twist in the described poses).
+AssemblyJoint limitedBallAt(const Assembly& as, int a, int b, const Vec3& point, const Vec3& axis,
+                            Real cone, JointLimits twist, Real friction) {
+  AssemblyJoint j = ballAt(as, a, b, point, friction);
+  auto& s = std::get<BallJointSettings>(j.settings);
+  s.axisA = poseOf(as, a).q.conjugate() * axis;
+  s.axisB = poseOf(as, b).q.conjugate() * axis;
+  s.coneLimit = cone;
+  s.twistLimits = twist;
+  return j;
+}
+
 // A hinge about a world axis through a world point; limits are B's angle relative to A about
 // the axis (right-hand rule), zero in the described poses.
 AssemblyJoint hingeAt(const Assembly& as, int a, int b, const Vec3& point, const Vec3& axis,
@@ -450,16 +463,21 @@ Assembly ragdoll(const RagdollSettings& s) {
   const Vec3 lateral = q * Vec3::UnitX();  // the figure's left: the hinges' axis
   const Real f = s.jointFriction;
   // Bending forwards turns a part's top towards +z: positive about +x. The neck, shoulders and
-  // hips are ball joints without cone or twist limits (the ball joint had none when this was
-  // written): they turn freely, so a limb may pass through an anatomical stop.
+  // hips are ball joints with a swing cone and twist limits about the part's rest direction
+  // (up for the head, down for the limbs): the head tips 0.8 rad and turns 1.2; an arm swings
+  // 2.2 rad from hanging (raised sideways above the shoulder) and twists 1.2; a thigh swings
+  // 1.5 rad (a high kick) and twists 0.6.
   a.joints.push_back(hingeAt(a, index(P::Pelvis), index(P::Torso), at(0, Real(0.1)), lateral,
                              JointLimits{Real(-0.3), Real(0.8)}, f));
-  a.joints.push_back(ballAt(a, index(P::Torso), index(P::Head), at(0, Real(0.565)), f));
+  const Vec3 up = q * Vec3::UnitY();
+  a.joints.push_back(limitedBallAt(a, index(P::Torso), index(P::Head), at(0, Real(0.565)), up,
+                                   Real(0.8), {Real(-1.2), Real(1.2)}, f));
   std::vector<std::string> names = {"waist", "neck"};
   for (Real side : {Real(1), Real(-1)}) {
     const P upper = side > 0 ? P::UpperArmLeft : P::UpperArmRight;
     const P lower = side > 0 ? P::LowerArmLeft : P::LowerArmRight;
-    a.joints.push_back(ballAt(a, index(P::Torso), index(upper), at(side * armX, shoulderY), f));
+    a.joints.push_back(limitedBallAt(a, index(P::Torso), index(upper), at(side * armX, shoulderY),
+                                     -up, Real(2.2), {Real(-1.2), Real(1.2)}, f));
     // The forearm flexes forwards: its lower end towards +z, negative about +x.
     a.joints.push_back(hingeAt(a, index(upper), index(lower), at(side * armX, elbowY), lateral,
                                JointLimits{Real(-2.6), 0}, f));
@@ -469,7 +487,8 @@ Assembly ragdoll(const RagdollSettings& s) {
   for (Real side : {Real(1), Real(-1)}) {
     const P upper = side > 0 ? P::UpperLegLeft : P::UpperLegRight;
     const P lower = side > 0 ? P::LowerLegLeft : P::LowerLegRight;
-    a.joints.push_back(ballAt(a, index(P::Pelvis), index(upper), at(side * legX, hipY), f));
+    a.joints.push_back(limitedBallAt(a, index(P::Pelvis), index(upper), at(side * legX, hipY), -up,
+                                     Real(1.5), {Real(-0.6), Real(0.6)}, f));
     // The shin flexes backwards: its lower end towards -z, positive about +x.
     a.joints.push_back(hingeAt(a, index(upper), index(lower), at(side * legX, kneeY), lateral,
                                JointLimits{0, Real(2.6)}, f));

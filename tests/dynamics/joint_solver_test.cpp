@@ -454,6 +454,46 @@ TEST(JointBall, ConeAndTwistLimitsHold) {
   EXPECT_LT(most, Real(0.31));
 }
 
+// The twist limit at a wide swing (an arm raised above the shoulder, twisted): a rod hanging
+// from a ball joint whose axis points down, tilted 2.5 rad from it and turned about the joint's
+// axis at 2 rad/s without gravity. Turning about A's axis is pure twist: the twist grows at the
+// rate of the turn. A twist row along B's own axis measures cos(2.5) = -0.8 of that rate, the
+// wrong sign: it let this rod 0.03 rad through its limit, and a ragdoll's arm at the corner of
+// its cone and twist limits gained energy until it spun at 30 rad/s. The limit stops it as at
+// a small swing (the speculative row; 0.01 rad over, as above), and no energy is gained: the
+// limit's rows are inelastic, and the anchors' rigid rows do no work but their position
+// correction's, which holds the anchor to ~1e-5 m.
+TEST(JointBall, TwistLimitHoldsAtAWideSwing) {
+  WorldSettings s = quietWorld();
+  s.gravity = Vec3::Zero();
+  World world(s);
+  const Real L = 1, tilt = Real(2.5), turn = 2;
+  const Quat q(Eigen::AngleAxis<Real>(tilt, Vec3::UnitZ()));
+  const Vec3 centre = q * Vec3(0, -L / 2, 0);
+  const Vec3 w(0, -turn, 0);
+  const BodyId rod = world.createBody({.position = centre,
+                                       .orientation = q,
+                                       .linearVelocity = w.cross(centre),
+                                       .angularVelocity = w});
+  world.addShape(rod, Box{Vec3(Real(0.05), L / 2, Real(0.05))});
+  const JointId joint =
+      world.createJoint(BallJointSettings{.bodyB = rod,
+                                          .anchorB = Vec3(0, L / 2, 0),
+                                          .axisA = -Vec3::UnitY(),
+                                          .axisB = -Vec3::UnitY(),
+                                          .twistLimits = JointLimits{Real(-0.3), Real(0.3)}});
+  const Real energy = world.rigidBodies().kineticEnergy();
+  Real most = 0, mostEnergy = 0;
+  for (int i = 0; i < 120; ++i) {
+    world.step(kDt);
+    most = std::max(most, world.rigidBodies().jointCoordinate(joint));
+    mostEnergy = std::max(mostEnergy, world.rigidBodies().kineticEnergy());
+  }
+  EXPECT_GT(most, Real(0.29));  // it reached the limit
+  EXPECT_LT(most, Real(0.31));
+  EXPECT_LE(mostEnergy, energy * Real(1.001));
+}
+
 // A Cardan joint between a kinematic input shaft turning at w1 about x and an output shaft
 // held by a hinge along an axis at beta from x: the output turns at
 // w2 = w1 cos(beta) / (1 - sin^2(beta) cos^2(theta1)), theta1 the input yoke's angle from the

@@ -149,21 +149,21 @@ int stepsFor(const World& world, double seconds) {
 // Every joint sample, and every scene file with joints, runs 5 s with finite state and its
 // joints holding. The soft joints give under load and for a step through an impact. The worst
 // measured (at 4 substeps of 1/60 s and 4 iterations, but for the cradle's 1/240 s steps and the
-// ragdoll pile's 8 iterations, without which an elbow at the bottom twists 0.19 rad): 2.2 cm on
-// the bridge scene's seams as its ragdolls land, 0.105 rad for one step on a ragdoll's elbow as
-// its 1.7 kg forearm strikes a stair's edge, 0.255 rad for one step on an elbow of the
-// showcase's small ragdolls (0.37 kg forearms) as it lands, and a limit passed by 0.083 rad on the
-// small ragdolls (scale 0.6: forearms of 0.37 kg; the README's overshoot of a small body on a
-// long arm, limits being rows of their own). The builders' tests see the like: 1.5 cm for a
-// ragdoll landing from 3 m, 1 cm at the whipping end of a chain. The tumbling is chaotic, so
-// the bounds (3 cm, 0.4 rad, 0.15 rad past a limit) leave half as much again. At the end, past
-// the impacts, joints are within 1 cm (the chain still whips: 5 mm). At rest a soft row gives
-// by its load over its stiffness, C = K F / omega^2 (the soft step's fixed point, omega = 2 pi
-// 120 Hz): the most loaded elbow under the ragdoll pile carries 977 N and 65 N m, and sits at
-// 5.6 mm, 0.034 rad and 0.012 rad past its limit (a forearm is light about its own axis). Which
-// elbow carries the pile is chaotic (another landing put 0.019 rad on it), so the bounds
-// (0.05 rad, 0.02 rad past a limit) leave half as much again. Only the bridges made to break
-// break.
+// ragdoll pile's 8 iterations, without which an elbow at the bottom twists 0.19 rad): 4.5 cm and
+// 0.196 rad past its limit for one step on an elbow of the bridge scene's ragdoll as it lands
+// on the planks (a 4 kN blow on a 1.7 kg forearm whose shoulder's cone and twist limits hold
+// the arm, so the elbow takes it; before the ragdolls had those limits the bridge's worst was
+// 2.2 cm), 0.105 rad for one step on a ragdoll's elbow as its forearm strikes a stair's edge,
+// 0.255 rad for one step on an elbow of the showcase's small ragdolls (0.37 kg forearms) as it
+// lands. The builders' tests see the like: 1.5 cm for a ragdoll landing from 3 m, 1 cm at the
+// whipping end of a chain. The tumbling is chaotic, so the bounds (6 cm, 0.4 rad, 0.3 rad past
+// a limit) leave a third as much again. At the end, past the impacts, joints are within 1 cm
+// (the chain still whips: 5 mm). At rest a soft row gives by its load over its stiffness, C = K
+// F / omega^2 (the soft step's fixed point, omega = 2 pi 120 Hz): the most loaded elbow under
+// the ragdoll pile carries 1.5 kN and 169 N m, and its axes sit 0.056 rad apart (another
+// landing put 977 N and 65 N m on it, at 0.034 rad and 0.012 rad past its limit; a forearm is
+// light about its own axis). Which elbow carries the pile is chaotic, so the bounds (0.08 rad,
+// 0.02 rad past a limit) leave a third as much again. Only the bridges made to break break.
 void runFiveSecondsWithJointsHolding(const Sample& s, bool breaks) {
   SCOPED_TRACE(s.group + "/" + s.name);
   const std::unique_ptr<World> world = io::instantiate(s.build());
@@ -178,13 +178,13 @@ void runFiveSecondsWithJointsHolding(const Sample& s, bool breaks) {
     ASSERT_TRUE(finiteState(*world)) << "step " << i;
     worst.measure(*world);
   }
-  EXPECT_LT(worst.position, Real(0.03));
+  EXPECT_LT(worst.position, Real(0.06));
   EXPECT_LT(worst.angle, Real(0.4));
-  EXPECT_LT(worst.limit, Real(0.15));
+  EXPECT_LT(worst.limit, Real(0.3));
   JointWorst end;
   end.measure(*world);
   EXPECT_LT(end.position, Real(0.01));
-  EXPECT_LT(end.angle, Real(0.05));
+  EXPECT_LT(end.angle, Real(0.08));
   EXPECT_LT(end.limit, Real(0.02));
   int broken = 0;
   for (JointId j : world->rigidBodies().joints()) broken += world->rigidBodies().isJointBroken(j);
