@@ -89,6 +89,8 @@ struct JointConstraint {
   int stamp = -1;  ///< The position update its rows and coordinates were prepared for.
   /// Nothing but the locked rows to solve (lockedOnly()): the passes leave the record alone.
   bool lockedOnly = false;
+  /// A plain ball joint (lockedOnly): its anchors' point constraint is all there is to it.
+  bool point = false;
   /// Every locked row of the joint, solved together: a ball joint's anchors (3 rows), a
   /// hinge's anchors and aligned axes (5), a slider's rotation and off-axis offsets (5), a
   /// weld's all (6), a six-DOF joint's locked degrees of freedom. Kept here, in colour order,

@@ -56,7 +56,8 @@ struct RowBlock {
   Eigen::Matrix<Real, kMax, 1> impulse = Eigen::Matrix<Real, kMax, 1>::Zero();
   Vec3 armA = Vec3::Zero(), armB = Vec3::Zero();
   // Set by prepare() after each position update: the position errors and K^-1 (count x count,
-  // packed), which the passes until the next position update share.
+  // column-major; a point constraint's upper triangle, packed 00, 01, 02, 11, 12, 22), which the
+  // passes until the next position update share.
   Eigen::Matrix<Real, kMax, 1> error = Eigen::Matrix<Real, kMax, 1>::Zero();
   std::array<Real, kMax * kMax> inverseMass{};
   std::array<JointRow, kMax> rows{};
@@ -169,49 +170,75 @@ struct RowBlock {
   }
 
  private:
-  // [r]^T I^-1 [r] for a symmetric I^-1: the inverse mass a point at arm r gets from a body's
-  // rotation. With s_i = r x e_i the columns of [r] and t_i = I^-1 s_i, entry (i, j) is
-  // s_i . t_j; the upper triangle, mirrored.
-  static Mat3 armMass(const Mat3& invInertia, const Vec3& r) {
+  // Adds [r]^T I^-1 [r] for a symmetric I^-1 (the inverse mass a point at arm r gets from a
+  // body's rotation) to the packed upper triangle k (00, 01, 02, 11, 12, 22). With s_i = r x e_i
+  // the columns of [r] and t_i = I^-1 s_i, entry (i, j) is s_i . t_j. In scalars: Eigen's
+  // expressions over 3-vectors cost four times the arithmetic here, and K is made for every
+  // joint after every position update.
+  static void addArmMass(std::array<Real, 6>& k, const Mat3& inv, const Vec3& r) {
     const Real x = r.x(), y = r.y(), z = r.z();
-    const Vec3 t0 = z * invInertia.col(1) - y * invInertia.col(2);
-    const Vec3 t1 = x * invInertia.col(2) - z * invInertia.col(0);
-    const Vec3 t2 = y * invInertia.col(0) - x * invInertia.col(1);
-    Mat3 k;
-    k(0, 0) = z * t0.y() - y * t0.z();
-    k(0, 1) = k(1, 0) = z * t1.y() - y * t1.z();
-    k(0, 2) = k(2, 0) = z * t2.y() - y * t2.z();
-    k(1, 1) = x * t1.z() - z * t1.x();
-    k(1, 2) = k(2, 1) = x * t2.z() - z * t2.x();
-    k(2, 2) = y * t2.x() - x * t2.y();
-    return k;
+    const Real i00 = inv(0, 0), i01 = inv(0, 1), i02 = inv(0, 2);
+    const Real i11 = inv(1, 1), i12 = inv(1, 2), i22 = inv(2, 2);
+    const Real t0y = z * i11 - y * i12, t0z = z * i12 - y * i22;
+    const Real t1x = x * i02 - z * i00, t1y = x * i12 - z * i01, t1z = x * i22 - z * i02;
+    const Real t2x = y * i00 - x * i01, t2y = y * i01 - x * i11, t2z = y * i02 - x * i12;
+    k[0] += z * t0y - y * t0z;
+    k[1] += z * t1y - y * t1z;
+    k[2] += z * t2y - y * t2z;
+    k[3] += x * t1z - z * t1x;
+    k[4] += x * t2z - z * t2x;
+    k[5] += y * t2x - x * t2y;
+  }
+  // v += s M u for a symmetric 3x3 M (an inverse inertia), in scalars.
+  static void addSymmetricProduct(Vec3& v, Real s, const Mat3& m, const Vec3& u) {
+    const Real x = u.x(), y = u.y(), z = u.z();
+    v.x() += s * (m(0, 0) * x + m(0, 1) * y + m(0, 2) * z);
+    v.y() += s * (m(0, 1) * x + m(1, 1) * y + m(1, 2) * z);
+    v.z() += s * (m(0, 2) * x + m(1, 2) * y + m(2, 2) * z);
+  }
+  static Vec3 cross(const Vec3& a, const Vec3& b) {
+    return {a.y() * b.z() - a.z() * b.y(), a.z() * b.x() - a.x() * b.z(),
+            a.x() * b.y() - a.y() * b.x()};
   }
   void applyPoint(SolverBody& a, SolverBody& b, const Vec3& lambda) const {
-    a.v -= a.invMass * lambda;
-    a.w -= a.invInertia.lazyProduct(armA.cross(lambda));
-    b.v += b.invMass * lambda;
-    b.w += b.invInertia.lazyProduct(armB.cross(lambda));
+    for (int i = 0; i < 3; ++i) {
+      a.v(i) -= a.invMass * lambda(i);
+      b.v(i) += b.invMass * lambda(i);
+    }
+    addSymmetricProduct(a.w, -1, a.invInertia, cross(armA, lambda));
+    addSymmetricProduct(b.w, 1, b.invInertia, cross(armB, lambda));
   }
   void solvePoint(SolverBody& a, SolverBody& b, const Softness& soft) {
-    const Vec3 rhs =
-        b.v + b.w.cross(armB) - a.v - a.w.cross(armA) + soft.biasRate * error.head<3>();
-    const Vec3 delta =
-        -soft.massScale * Eigen::Map<const Mat3>(inverseMass.data()).lazyProduct(rhs) -
-        soft.impulseScale * impulse.head<3>();
-    impulse.head<3>() += delta;
+    const Vec3 wbr = cross(b.w, armB), war = cross(a.w, armA);
+    Vec3 rhs;
+    for (int i = 0; i < 3; ++i)
+      rhs(i) = (b.v(i) + wbr(i)) - (a.v(i) + war(i)) + soft.biasRate * error(i);
+    // K^-1 is symmetric: its upper triangle, packed as addArmMass's.
+    const Real* m = inverseMass.data();
+    const Vec3 delta(-soft.massScale * (m[0] * rhs.x() + m[1] * rhs.y() + m[2] * rhs.z()) -
+                         soft.impulseScale * impulse(0),
+                     -soft.massScale * (m[1] * rhs.x() + m[3] * rhs.y() + m[4] * rhs.z()) -
+                         soft.impulseScale * impulse(1),
+                     -soft.massScale * (m[2] * rhs.x() + m[4] * rhs.y() + m[5] * rhs.z()) -
+                         soft.impulseScale * impulse(2));
+    for (int i = 0; i < 3; ++i) impulse(i) += delta(i);
     applyPoint(a, b, delta);
   }
+
+ public:
   // K^-1 of a point constraint by the adjugate of the symmetric K. False where K is near
   // singular (no moving body on either side has mass, which a joint never has, or a
   // determinant lost to rounding): the caller falls back to the rows' LDLT.
   bool invertPoint(const SolverBody& a, const SolverBody& b) {
-    const Mat3 k = (a.invMass + b.invMass) * Mat3::Identity() + armMass(a.invInertia, armA) +
-                   armMass(b.invInertia, armB);
-    const Real c00 = k(1, 1) * k(2, 2) - k(1, 2) * k(1, 2);
-    const Real c01 = k(0, 2) * k(1, 2) - k(0, 1) * k(2, 2);
-    const Real c02 = k(0, 1) * k(1, 2) - k(0, 2) * k(1, 1);
-    const Real det = k(0, 0) * c00 + k(0, 1) * c01 + k(0, 2) * c02;
-    const Real scale = k.trace();
+    const Real m = a.invMass + b.invMass;
+    std::array<Real, 6> k = {m, 0, 0, m, 0, m};
+    addArmMass(k, a.invInertia, armA);
+    addArmMass(k, b.invInertia, armB);
+    const Real c00 = k[3] * k[5] - k[4] * k[4];
+    const Real c01 = k[2] * k[4] - k[1] * k[5];
+    const Real c02 = k[1] * k[4] - k[2] * k[3];
+    const Real det = k[0] * c00 + k[1] * c01 + k[2] * c02;
+    const Real scale = k[0] + k[3] + k[5];
     if (!(det > std::numeric_limits<Real>::epsilon() * scale * scale * scale)) {
       point = false;
       for (int i = 0; i < 3; ++i)
@@ -220,14 +247,16 @@ struct RowBlock {
       return false;
     }
     const Real inv = 1 / det;
-    Mat3 m;
-    m << c00, c01, c02,                                                                     //
-        c01, k(0, 0) * k(2, 2) - k(0, 2) * k(0, 2), k(0, 1) * k(0, 2) - k(0, 0) * k(1, 2),  //
-        c02, k(0, 1) * k(0, 2) - k(0, 0) * k(1, 2), k(0, 0) * k(1, 1) - k(0, 1) * k(0, 1);
-    Eigen::Map<Mat3>(inverseMass.data()) = inv * m;
+    inverseMass[0] = inv * c00;
+    inverseMass[1] = inv * c01;
+    inverseMass[2] = inv * c02;
+    inverseMass[3] = inv * (k[0] * k[5] - k[2] * k[2]);
+    inverseMass[4] = inv * (k[1] * k[2] - k[0] * k[4]);
+    inverseMass[5] = inv * (k[0] * k[3] - k[1] * k[1]);
     return true;
   }
 
+ private:
   // solve() for N rows, in fixed-size (unrolled) arithmetic.
   template <int N>
   void solveFixed(SolverBody& a, SolverBody& b, const Softness& soft) {

@@ -54,6 +54,7 @@ void addJointConstraints(RigidBodyData& D, Slot slot) {
     c.bodyA = j.bodyA == kWorldBody ? -1 : slot(j.bodyA);
     c.bodyB = slot(j.bodyB);
     c.lockedOnly = lockedOnly(j);
+    c.point = c.lockedOnly && j.type == JointType::Ball;
     D.jointEdges.push_back({c.bodyA, c.bodyB});
   }
 }

@@ -400,8 +400,11 @@ double solveSubsteps(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
   JointPass jointRelax = jointPass(s, h, false);
   double integrationTime = 0;
   for (int sub = 0; sub < s.substeps; ++sub) {
-    jointSolve.stamp = 2 * sub;
-    jointRelax.stamp = 2 * sub + 1;
+    // A joint's rows are made once per position update: the relaxation's, after this
+    // substep's, serve the next substep's warm start and solve (velocity updates leave the
+    // positions alone).
+    jointSolve.stamp = sub;
+    jointRelax.stamp = sub + 1;
     // The normal velocities before the velocity update, for the approach speed at impact.
     if (lcp)
       beginApproach(D.constraints, D.solverBodies);
