@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <iterator>
 #include <limits>
 #include <numeric>
@@ -65,6 +66,24 @@ Mat3 inverseInertia(const Mat3& inertia) {
   std::frexp(inertia.cwiseAbs().maxCoeff(), &exponent);
   const Real scale = std::ldexp(Real(1), -exponent);
   return (inertia * scale).inverse() * scale;
+}
+
+// A dynamic shape whose mass or principal moments Real cannot hold with room to spare (a
+// sphere of 10 nm: its inertia's inverse overflows float) is refused here, not left to turn
+// NaN in the solver.
+void requireSimulable(const MassProperties& props) {
+  const Eigen::SelfAdjointEigenSolver<Mat3> eig(props.inertia, Eigen::EigenvaluesOnly);
+  const Vec3 moments = eig.eigenvalues();
+  char text[320];
+  std::snprintf(text, sizeof(text),
+                "RigidBodySystem::addShape: the shape's mass (%.3g kg) or a principal moment of "
+                "inertia (%.3g .. %.3g kg m^2) is outside %s, what Real can simulate: size or "
+                "density too small or too large",
+                double(props.mass), double(moments.minCoeff()), double(moments.maxCoeff()),
+                massPropertyRange().c_str());
+  require(simulableMassProperty(props.mass) && simulableMassProperty(moments.minCoeff()) &&
+              simulableMassProperty(moments.maxCoeff()),
+          text);
 }
 
 }  // namespace
@@ -279,7 +298,8 @@ ShapeId RigidBodySystem::addShape(BodyId bodyId, const Collider& collider, const
                                             (type == ShapeType::Plane ? "plane" : "height field") +
                                             " can only be attached to a static body");
   // Fails (InvalidArgument) for open meshes and other shapes without a volume.
-  if (b.type == BodyType::Dynamic) (void)massProperties(collider.shape(), material.density);
+  if (b.type == BodyType::Dynamic)
+    requireSimulable(massProperties(collider.shape(), material.density));
 
   std::uint32_t index = 0;
   while (index < D.shapes.size() && D.shapes[index].alive) ++index;
