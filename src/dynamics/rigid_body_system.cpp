@@ -417,6 +417,7 @@ void RigidBodySystem::applyForce(BodyId id, const Vec3& f, const Vec3& point) {
 }
 
 void RigidBodySystem::applyForceAtCenter(BodyId id, const Vec3& f) {
+  require(allFinite(f), "RigidBodySystem::applyForceAtCenter: the force must be finite");
   applyForce(id, f, d_->body(id).com);
 }
 
@@ -486,6 +487,10 @@ const std::vector<ContactEvent>& RigidBodySystem::endEvents() const { return d_-
 const DynamicsTimes& RigidBodySystem::times() const { return d_->times; }
 
 std::optional<WorldRayHit> RigidBodySystem::castRay(const Ray& ray) const {
+  require(allFinite(ray.origin), "RigidBodySystem::castRay: the ray's origin must be finite");
+  require(allFinite(ray.direction) && !ray.direction.isZero(0),
+          "RigidBodySystem::castRay: the ray's direction must be finite and non-zero");
+  require(ray.maxFraction >= 0, "RigidBodySystem::castRay: the ray's maxFraction must be >= 0");
   const Data& D = *d_;
   std::optional<WorldRayHit> best;
   auto consider = [&](std::uint32_t si, Real maxFraction) {
