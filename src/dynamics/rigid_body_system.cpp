@@ -221,8 +221,9 @@ RigidBodySystem& RigidBodySystem::operator=(RigidBodySystem&&) noexcept = defaul
 BodyId RigidBodySystem::createBody(const BodySettings& settings) {
   validate(settings);
   Data& D = *d_;
-  std::uint32_t index = 0;
+  std::uint32_t index = D.firstFreeBody;
   while (index < D.bodies.size() && D.bodies[index].alive) ++index;
+  D.firstFreeBody = index + 1;
   if (index == D.bodies.size()) {
     D.bodies.emplace_back();
     D.workspaces.emplace_back();
@@ -265,6 +266,7 @@ void RigidBodySystem::destroyBody(BodyId id) {
     D.pairsDirty = true;
     s.alive = false;
     ++s.generation;
+    D.firstFreeShape = std::min(D.firstFreeShape, si);
     D.planes.erase(std::remove(D.planes.begin(), D.planes.end(), si), D.planes.end());
     D.dropContacts(si);
   }
@@ -274,6 +276,7 @@ void RigidBodySystem::destroyBody(BodyId id) {
     destroyJoint({ji, D.joints[ji].generation});
   b.alive = false;
   ++b.generation;
+  D.firstFreeBody = std::min(D.firstFreeBody, id.index);
   --D.liveBodies;
 }
 
@@ -301,8 +304,9 @@ ShapeId RigidBodySystem::addShape(BodyId bodyId, const Collider& collider, const
   if (b.type == BodyType::Dynamic)
     requireSimulable(massProperties(collider.shape(), material.density));
 
-  std::uint32_t index = 0;
+  std::uint32_t index = D.firstFreeShape;
   while (index < D.shapes.size() && D.shapes[index].alive) ++index;
+  D.firstFreeShape = index + 1;
   if (index == D.shapes.size()) D.shapes.emplace_back();
   ShapeRecord& s = D.shapes[index];
   s.alive = true;
@@ -344,6 +348,7 @@ void RigidBodySystem::removeShape(ShapeId id) {
   b.shapes.erase(std::remove(b.shapes.begin(), b.shapes.end(), id.index), b.shapes.end());
   s.alive = false;
   ++s.generation;
+  D.firstFreeShape = std::min(D.firstFreeShape, id.index);
   D.updateMass(b);
   D.wake(b);
 }
