@@ -13,12 +13,11 @@ using namespace inertia;
 
 namespace {
 
-// Sizes from 1 cm up: light small bodies turn NaN on landing (issue 21, defect 3, fixed
-// separately; a 1 mm sphere of 10 kg/m^3 dropped 1 m does too); lower kMinSize to 0 to fuzz
-// that once the API refuses what it cannot simulate.
-constexpr Real kMinSize = Real(1e-2);
-// Up to 100 m: a 1 km capsule of 1e4 kg/m^3 spinning at 13 rad/s and started 900 m deep in the
-// ground turns NaN in its first step (fuzz/findings/, not fixed yet).
+// Sizes from 0 (1e-8 m and up after the scale): the API refuses shapes whose mass properties
+// Real cannot hold (kMinMassProperty); those light small bodies that it accepts must land.
+constexpr Real kMinSize = 0;
+// Up to 100 m for primitives. Hull points and shape offsets come from Input::real, whose
+// special values reach 1e5 m whatever the scale (fuzz/README.md, known limits).
 constexpr Real kMaxSize = Real(1e2);
 
 Shape makeShape(fuzz::Input& in, Real scale) {

@@ -41,9 +41,9 @@ class Playback {
   void singleStep();
   /// Makes the world again from the scene, with the settings last applied.
   void restart();
-  /// Replaces the world's settings: a new world is made with them and the rigid bodies'
-  /// state (bodies added since included) and clock are carried over (World::saveState) and every
-  /// body is woken; particle systems start again. Throws InvalidArgument for invalid settings
+  /// Replaces the world's settings: a new world is made with them and the state (bodies added
+  /// since included, joints, particle systems, deformables) and clock are carried over
+  /// (World::saveState) and every body is woken. Throws InvalidArgument for invalid settings
   /// (the world is unchanged).
   void applySettings(const WorldSettings& settings);
 

@@ -525,7 +525,7 @@ void bindWorld(py::module_& m) {
           "(m), or None.")
       .def(
           "save_state", [](const PyWorld& w) { return w->saveState(); },
-          "A snapshot of the bodies, joints, contacts and clock (not the particle systems).")
+          "A snapshot of the bodies, joints, contacts, particle systems, deformables and clock.")
       .def(
           "restore_state", [](PyWorld& w, const World::State& s) { w->restoreState(s); },
           py::arg("state"), "Continues from a snapshot bit-identically.");

@@ -50,6 +50,29 @@ Deformable::~Deformable() = default;
 Deformable::Deformable(Deformable&&) noexcept = default;
 Deformable& Deformable::operator=(Deformable&&) noexcept = default;
 
+// Every member (a new one must be added here).
+Deformable::Deformable(const Deformable& other)
+    : settings_(other.settings_),
+      x_(other.x_),
+      v_(other.v_),
+      masses_(other.masses_),
+      pinned_(other.pinned_),
+      springs_(other.springs_),
+      broken_(other.broken_),
+      triangles_(other.triangles_),
+      fields_(other.fields_),
+      obstacles_(other.obstacles_),
+      moving_(other.moving_),
+      tearEvents_(other.tearEvents_),
+      scratch_(std::make_unique<Scratch>(*other.scratch_)),
+      lastSolve_(other.lastSolve_),
+      time_(other.time_) {}
+
+Deformable& Deformable::operator=(const Deformable& other) {
+  if (this != &other) *this = Deformable(other);
+  return *this;
+}
+
 namespace {
 void checkVertex(std::size_t vertex, std::size_t n, const char* who) {
   require(vertex < n, std::string("Deformable::") + who + ": vertex " + std::to_string(vertex) +

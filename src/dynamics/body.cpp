@@ -2,6 +2,8 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "inertia/core/error.h"
 #include "inertia/core/math.h"
@@ -46,6 +48,15 @@ void validate(const Material& m) {
           "Material::spinningFriction must be finite and >= 0 (m)");
 }
 
+bool simulableMassProperty(Real x) { return x >= kMinMassProperty && x <= kMaxMassProperty; }
+
+std::string massPropertyRange() {
+  char text[64];
+  std::snprintf(text, sizeof(text), "[%.3g, %.3g]", double(kMinMassProperty),
+                double(kMaxMassProperty));
+  return text;
+}
+
 Real combine(CombineRule rule, Real a, Real b) {
   switch (rule) {
     case CombineRule::Average: return Real(0.5) * (a + b);
@@ -74,6 +85,13 @@ void validate(const BodySettings& s) {
   require(finiteNonNegative(s.mass), "BodySettings::mass must be finite and >= 0 (kg; 0 = from shapes)");
   require(allFinite(s.inertia) && (s.inertia.array() >= 0).all(),
           "BodySettings::inertia must be finite and >= 0 (kg m^2)");
+  require(s.mass == 0 || simulableMassProperty(s.mass),
+          "BodySettings::mass is outside what Real can simulate, " + massPropertyRange() + " kg");
+  require(s.inertia.isZero() ||
+              (simulableMassProperty(s.inertia.x()) && simulableMassProperty(s.inertia.y()) &&
+               simulableMassProperty(s.inertia.z())),
+          "BodySettings::inertia is outside what Real can simulate, " + massPropertyRange() +
+              " kg m^2");
   require(s.inertia.isZero() || (s.mass > 0 && (s.inertia.array() > 0).all()),
           "BodySettings::inertia needs a mass and three positive principal moments");
   // Principal moments of a real body obey the triangle inequality (I1 <= I2 + I3, ...).

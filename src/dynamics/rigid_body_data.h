@@ -178,6 +178,9 @@ inline ProxyType proxyType(BodyType t) {
 struct RigidBodyData {
   std::vector<BodyRecord> bodies;
   std::vector<ShapeRecord> shapes;
+  // Every slot below these is alive: the search for the first free slot starts here, so that
+  // creating n bodies costs O(n), not O(n^2) (100,000 bodies took minutes).
+  std::uint32_t firstFreeBody = 0, firstFreeShape = 0;
   // The broad phase's proxies carry their shape's index; planes are unbounded and kept apart.
   BroadPhase broadPhase{{.tree = {.margin = Real(0.05), .displacementMultiplier = 2}}};
   std::vector<std::uint32_t> planes;  // shape indices of planes

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <iterator>
 #include <limits>
 #include <numeric>
@@ -65,6 +66,24 @@ Mat3 inverseInertia(const Mat3& inertia) {
   std::frexp(inertia.cwiseAbs().maxCoeff(), &exponent);
   const Real scale = std::ldexp(Real(1), -exponent);
   return (inertia * scale).inverse() * scale;
+}
+
+// A dynamic shape whose mass or principal moments Real cannot hold with room to spare (a
+// sphere of 10 nm: its inertia's inverse overflows float) is refused here, not left to turn
+// NaN in the solver.
+void requireSimulable(const MassProperties& props) {
+  const Eigen::SelfAdjointEigenSolver<Mat3> eig(props.inertia, Eigen::EigenvaluesOnly);
+  const Vec3 moments = eig.eigenvalues();
+  char text[320];
+  std::snprintf(text, sizeof(text),
+                "RigidBodySystem::addShape: the shape's mass (%.3g kg) or a principal moment of "
+                "inertia (%.3g .. %.3g kg m^2) is outside %s, what Real can simulate: size or "
+                "density too small or too large",
+                double(props.mass), double(moments.minCoeff()), double(moments.maxCoeff()),
+                massPropertyRange().c_str());
+  require(simulableMassProperty(props.mass) && simulableMassProperty(moments.minCoeff()) &&
+              simulableMassProperty(moments.maxCoeff()),
+          text);
 }
 
 }  // namespace
@@ -202,8 +221,9 @@ RigidBodySystem& RigidBodySystem::operator=(RigidBodySystem&&) noexcept = defaul
 BodyId RigidBodySystem::createBody(const BodySettings& settings) {
   validate(settings);
   Data& D = *d_;
-  std::uint32_t index = 0;
+  std::uint32_t index = D.firstFreeBody;
   while (index < D.bodies.size() && D.bodies[index].alive) ++index;
+  D.firstFreeBody = index + 1;
   if (index == D.bodies.size()) {
     D.bodies.emplace_back();
     D.workspaces.emplace_back();
@@ -246,6 +266,7 @@ void RigidBodySystem::destroyBody(BodyId id) {
     D.pairsDirty = true;
     s.alive = false;
     ++s.generation;
+    D.firstFreeShape = std::min(D.firstFreeShape, si);
     D.planes.erase(std::remove(D.planes.begin(), D.planes.end(), si), D.planes.end());
     D.dropContacts(si);
   }
@@ -255,6 +276,7 @@ void RigidBodySystem::destroyBody(BodyId id) {
     destroyJoint({ji, D.joints[ji].generation});
   b.alive = false;
   ++b.generation;
+  D.firstFreeBody = std::min(D.firstFreeBody, id.index);
   --D.liveBodies;
 }
 
@@ -279,10 +301,12 @@ ShapeId RigidBodySystem::addShape(BodyId bodyId, const Collider& collider, const
                                             (type == ShapeType::Plane ? "plane" : "height field") +
                                             " can only be attached to a static body");
   // Fails (InvalidArgument) for open meshes and other shapes without a volume.
-  if (b.type == BodyType::Dynamic) (void)massProperties(collider.shape(), material.density);
+  if (b.type == BodyType::Dynamic)
+    requireSimulable(massProperties(collider.shape(), material.density));
 
-  std::uint32_t index = 0;
+  std::uint32_t index = D.firstFreeShape;
   while (index < D.shapes.size() && D.shapes[index].alive) ++index;
+  D.firstFreeShape = index + 1;
   if (index == D.shapes.size()) D.shapes.emplace_back();
   ShapeRecord& s = D.shapes[index];
   s.alive = true;
@@ -324,6 +348,7 @@ void RigidBodySystem::removeShape(ShapeId id) {
   b.shapes.erase(std::remove(b.shapes.begin(), b.shapes.end(), id.index), b.shapes.end());
   s.alive = false;
   ++s.generation;
+  D.firstFreeShape = std::min(D.firstFreeShape, id.index);
   D.updateMass(b);
   D.wake(b);
 }
@@ -397,6 +422,7 @@ void RigidBodySystem::applyForce(BodyId id, const Vec3& f, const Vec3& point) {
 }
 
 void RigidBodySystem::applyForceAtCenter(BodyId id, const Vec3& f) {
+  require(allFinite(f), "RigidBodySystem::applyForceAtCenter: the force must be finite");
   applyForce(id, f, d_->body(id).com);
 }
 
@@ -466,6 +492,10 @@ const std::vector<ContactEvent>& RigidBodySystem::endEvents() const { return d_-
 const DynamicsTimes& RigidBodySystem::times() const { return d_->times; }
 
 std::optional<WorldRayHit> RigidBodySystem::castRay(const Ray& ray) const {
+  require(allFinite(ray.origin), "RigidBodySystem::castRay: the ray's origin must be finite");
+  require(allFinite(ray.direction) && !ray.direction.isZero(0),
+          "RigidBodySystem::castRay: the ray's direction must be finite and non-zero");
+  require(ray.maxFraction >= 0, "RigidBodySystem::castRay: the ray's maxFraction must be >= 0");
   const Data& D = *d_;
   std::optional<WorldRayHit> best;
   auto consider = [&](std::uint32_t si, Real maxFraction) {

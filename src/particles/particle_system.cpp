@@ -188,6 +188,30 @@ ParticleSystem::~ParticleSystem() = default;
 ParticleSystem::ParticleSystem(ParticleSystem&&) noexcept = default;
 ParticleSystem& ParticleSystem::operator=(ParticleSystem&&) noexcept = default;
 
+// Every member (a new one must be added here); the static obstacles' cache entries point into
+// obstacles_, so they are pointed at the copy's own.
+ParticleSystem::ParticleSystem(const ParticleSystem& other)
+    : settings_(other.settings_),
+      pool_(other.pool_),
+      emitters_(other.emitters_),
+      fields_(other.fields_),
+      obstacles_(other.obstacles_),
+      obstacleCache_(other.obstacleCache_),
+      planeCount_(other.planeCount_),
+      springs_(other.springs_),
+      springIndex_(other.springIndex_),
+      scratch_(std::make_unique<Scratch>(*other.scratch_)),
+      stats_(other.stats_),
+      time_(other.time_) {
+  for (std::size_t i = 0; i < obstacles_.size(); ++i)
+    obstacleCache_[i].collider = &obstacles_[i].collider;
+}
+
+ParticleSystem& ParticleSystem::operator=(const ParticleSystem& other) {
+  if (this != &other) *this = ParticleSystem(other);
+  return *this;
+}
+
 std::size_t ParticleSystem::addEmitter(const EmitterSettings& emitter) {
   emitters_.emplace_back(emitter);  // the Emitter validates
   return emitters_.size() - 1;

@@ -211,8 +211,45 @@ PhaseTimes World::phaseTimes() const {
   return t;
 }
 
+World::State World::saveState() const {
+  State state{bodies_, {}, {}, time_, accumulator_, steps_};
+  for (const ParticleSlot& slot : particleSlots_)
+    state.particleSystems.emplace_back(
+        slot.system ? std::make_shared<const ParticleSystem>(*slot.system) : nullptr,
+        slot.generation);
+  for (const DeformableSlot& slot : deformableSlots_)
+    state.deformables.emplace_back(
+        slot.deformable ? std::make_shared<const Deformable>(*slot.deformable) : nullptr,
+        slot.generation);
+  return state;
+}
+
+namespace {
+
+// Each slot as saved: a live one is assigned in place (references to it stay valid), a new
+// one made, one freed since the save reset.
+template <class Slot, class T>
+void restoreSlots(std::vector<Slot>& slots, std::unique_ptr<T> Slot::*member,
+                  const std::vector<std::pair<std::shared_ptr<const T>, std::uint32_t>>& saved) {
+  slots.resize(saved.size());
+  for (std::size_t i = 0; i < saved.size(); ++i) {
+    std::unique_ptr<T>& live = slots[i].*member;
+    if (!saved[i].first)
+      live.reset();
+    else if (live)
+      *live = *saved[i].first;
+    else
+      live = std::make_unique<T>(*saved[i].first);
+    slots[i].generation = saved[i].second;
+  }
+}
+
+}  // namespace
+
 void World::restoreState(const State& state) {
   bodies_ = state.bodies;
+  restoreSlots(particleSlots_, &ParticleSlot::system, state.particleSystems);
+  restoreSlots(deformableSlots_, &DeformableSlot::deformable, state.deformables);
   time_ = state.time;
   accumulator_ = state.accumulator;
   steps_ = state.steps;

@@ -1,15 +1,17 @@
 // Bodies in contact, each case against its oracle: Newton's impact law, Coulomb friction on an
 // incline, stacks that stand, momentum conservation, no tunnelling, sleeping, determinism.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <map>
 #include <numbers>
+#include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
 #include "inertia/collision/contact.h"
+#include "inertia/core/error.h"
 #include "inertia/world/builders.h"
 #include "inertia/world/world.h"
 
@@ -155,6 +157,74 @@ TEST(ContactDynamics, TinySpheresLandAndRestWithoutNaN) {
       EXPECT_LT(world.linearVelocity(ball).norm(), Real(1e-3)) << solverName(solver) << " r=" << r;
     }
   }
+}
+
+// Issue 21's fuzz findings world-100m-capsule-nan, world-1mm-light-sphere-nan, world-dt1e-5-nan
+// and world-gcc-mutation-nan (fuzz/findings/): the same root cause as the tiny spheres above,
+// from both ends. A 100 m capsule of 1e4 kg/m^3 has an inertia of about 2e14 kg m^2, whose
+// determinant (8e42) overflows float, and a 1 mm sphere of 10 kg/m^3 one of 1.7e-14 kg m^2,
+// whose determinant (5e-42) underflows it: the 3x3 inverse was NaN and so was the body at its
+// first contact (the two dt 1e-5 s findings hold a 2.8 m sphere of 1e4 kg/m^3 with a 100 km hull).
+// Oracle: an angular impulse L changes the angular velocity by I^-1 L, so I dw = L to float
+// rounding (relative 1e-4: a 3x3 solve and the impulse's products, a few ulps each, times the
+// inertia's condition number, 1 for a sphere and about 3 for this capsule).
+TEST(ContactDynamics, HugeAndLightBodiesInvertTheirInertiaAndLandWithoutNaN) {
+  struct Case {
+    Shape shape;
+    Real density;
+    Vec3 position;
+  };
+  const Case cases[] = {{Capsule{100, Real(0.229)}, 10000, Vec3(167, 101, -186)},
+                        {Sphere{Real(1e-3)}, 10, Vec3(0, Real(0.5), 0)}};
+  for (const Case& c : cases) {
+    World world({.dt = Real(0.1), .substeps = 7, .sleeping = false});
+    const BodyId ground = world.createBody({.type = BodyType::Static});
+    world.addShape(ground, Box{Vec3(50, 1, 50)}, {}, Transform{Vec3(0, -1, 0)});
+    const BodyId body = world.createBody({.position = c.position,
+                                          .linearVelocity = Vec3(Real(14.3), 0, Real(-21.3)),
+                                          .angularVelocity = Vec3(Real(0.08), Real(-6.4), 11)});
+    world.addShape(body, c.shape, Material{.density = c.density});
+    RigidBodySystem& rb = world.rigidBodies();
+    const Mat3 inertia = rb.inertiaWorld(body);
+    const Vec3 w0 = rb.angularVelocity(body);
+    const Vec3 L = inertia * Vec3(1, 2, 3);
+    rb.applyAngularImpulse(body, L);
+    const Vec3 residual = inertia * (rb.angularVelocity(body) - w0) - L;
+    EXPECT_LT(residual.norm(), Real(1e-4) * L.norm())
+        << int(c.shape.type()) << " " << residual.transpose();
+    for (int i = 0; i < 30; ++i) {
+      world.step(Real(0.1));
+      ASSERT_TRUE(rb.transform(body).p.allFinite() && rb.linearVelocity(body).allFinite() &&
+                  rb.angularVelocity(body).allFinite())
+          << int(c.shape.type()) << " step " << i;
+    }
+  }
+}
+
+// What Real cannot simulate is refused where it is added, naming the argument: a sphere whose
+// inertia, 8 pi rho r^5 / 15, lies below kMinMassProperty (10 nm of water in float), one whose
+// mass lies above kMaxMassProperty, and mass overrides outside the range.
+TEST(ContactDynamics, MassPropertiesOutsideRealAreRefusedAtTheApi) {
+  const double pi = std::numbers::pi, rho = 1000;
+  const double tinyRadius = std::pow(double(kMinMassProperty) / (8 * pi * rho / 15), 0.2) / 2;
+  const double hugeRadius = std::pow(double(kMaxMassProperty) / (4 * pi * rho / 3), 1.0 / 3) * 2;
+  RigidBodySystem rb;
+  const BodyId body = rb.createBody({});
+  for (double r : {tinyRadius, hugeRadius}) {
+    try {
+      rb.addShape(body, Sphere{Real(r)}, Material{.density = Real(rho)});
+      ADD_FAILURE() << "radius " << r << " accepted";
+    } catch (const InvalidArgument& e) {
+      EXPECT_NE(std::string(e.what()).find("RigidBodySystem::addShape"), std::string::npos);
+      EXPECT_NE(std::string(e.what()).find("outside"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(rb.shapes(body).size(), 0u);
+  // Just inside the range both ways, the shape is accepted.
+  rb.addShape(body, Sphere{Real(tinyRadius * 4)}, Material{.density = Real(rho)});
+  EXPECT_THROW(rb.createBody({.mass = kMinMassProperty / 4}), InvalidArgument);
+  EXPECT_THROW(rb.createBody({.mass = 1, .inertia = Vec3::Constant(kMaxMassProperty * 2)}),
+               InvalidArgument);
 }
 
 namespace {

@@ -58,6 +58,10 @@ class Deformable {
   ~Deformable();
   Deformable(Deformable&&) noexcept;
   Deformable& operator=(Deformable&&) noexcept;
+  /// A deep copy, step scratch included (the implicit solve's buffers): the copy continues
+  /// bit-identically (World::saveState). Moving obstacles are shared, not copied.
+  Deformable(const Deformable& other);
+  Deformable& operator=(const Deformable& other);
 
   const DeformableSettings& settings() const { return settings_; }
   const std::string& name() const { return settings_.name; }

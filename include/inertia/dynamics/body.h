@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <string_view>
 
@@ -44,6 +45,18 @@ struct Material {
 
 /// Checks a material and throws InvalidArgument naming the first bad field.
 void validate(const Material& material);
+
+/// The range of a dynamic body's mass (kg) and principal moments of inertia (kg m^2) that Real
+/// can simulate: 2^24 inside the normal range of Real both ways, so that their inverses, and
+/// the sums and products the solver forms with them, stay finite (float: about 2e-31 to 2e31;
+/// a float water sphere is refused below a radius of about 50 nm). The API refuses a shape or
+/// a mass override outside it rather than turn NaN later.
+inline constexpr Real kMinMassProperty = std::numeric_limits<Real>::min() * Real(16777216);
+inline constexpr Real kMaxMassProperty = std::numeric_limits<Real>::max() / Real(16777216);
+/// True when x lies in [kMinMassProperty, kMaxMassProperty].
+bool simulableMassProperty(Real x);
+/// "[min, max]" of that range, for messages.
+std::string massPropertyRange();
 
 /// How two touching materials' coefficients combine into the contact's.
 enum class CombineRule : std::uint8_t { Average, GeometricMean, Minimum, Maximum, Multiply };

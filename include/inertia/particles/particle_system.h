@@ -86,6 +86,10 @@ class ParticleSystem {
   ~ParticleSystem();
   ParticleSystem(ParticleSystem&&) noexcept;
   ParticleSystem& operator=(ParticleSystem&&) noexcept;
+  /// A deep copy, step scratch included (an integrator's history lives there): the copy
+  /// continues bit-identically (World::saveState). Moving obstacles are shared, not copied.
+  ParticleSystem(const ParticleSystem& other);
+  ParticleSystem& operator=(const ParticleSystem& other);
 
   const ParticleSystemSettings& settings() const { return settings_; }
   const std::string& name() const { return settings_.name; }

@@ -138,15 +138,23 @@ class World {
   /// Seconds per phase, summed over all steps.
   PhaseTimes phaseTimes() const;
 
-  /// A copy of the rigid bodies' and the clock's state; restoreState() continues from it
-  /// bit-identically (particle systems are not included).
+  /// A copy of everything the world simulates: the rigid bodies with their shapes, contacts
+  /// and joints, every particle system and deformable (in its slot, so ids stay valid), and
+  /// the clock. restoreState() continues from it bit-identically. A State is immutable and
+  /// cheap to copy (the systems are shared between copies).
   struct State {
     RigidBodySystem bodies;
+    /// Per slot: the system (null for a free slot) and the slot's generation.
+    std::vector<std::pair<std::shared_ptr<const ParticleSystem>, std::uint32_t>> particleSystems;
+    std::vector<std::pair<std::shared_ptr<const Deformable>, std::uint32_t>> deformables;
     double time = 0;
     double accumulator = 0;
     std::int64_t steps = 0;
   };
-  State saveState() const { return {bodies_, time_, accumulator_, steps_}; }
+  State saveState() const;
+  /// Puts the world back in `state` (saved by this world or another). A system alive in both
+  /// is assigned in place, so references from particleSystem() and deformable() stay valid;
+  /// one created since is destroyed and its id becomes invalid.
   void restoreState(const State& state);
 
  private:
