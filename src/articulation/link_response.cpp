@@ -41,13 +41,18 @@ void LinkResponse::linkVelocity(int link, Vec3& v, Vec3& w) const {
 }
 
 void LinkResponse::beginStep() {
-  crba<Real>(articulation_.model(), articulation_.q(), ws_);
-  ws_.llt.compute(ws_.H);
   pointCount_ = 0;
+  factored_ = false;
 }
 
 int LinkResponse::addPoint(int member, const Vec3& point) {
   const Model<Real>& m = articulation_.model();
+  // H at the step's start, factored once, on the step's first contact point (none: no cost).
+  if (!factored_) {
+    crba<Real>(m, articulation_.q(), ws_);
+    ws_.llt.compute(ws_.H);
+    factored_ = true;
+  }
   if (std::size_t(pointCount_) == points_.size()) points_.emplace_back();
   Point& pt = points_[std::size_t(pointCount_)];
   pt.link = member;

@@ -2,7 +2,8 @@
 // response of the links' points to contact impulses through the tree's mass matrix, and the
 // articulation's substeps inside the rigid bodies' own.
 //
-// At the step's start the mass matrix H is built (CRBA) and factored (Cholesky) once; each
+// At the step's start the mass matrix H is built (CRBA) and factored (Cholesky) once (when the
+// articulation has a contact); each
 // contact point p on link i gets its Jacobian J (3 x nv, world axes: the point's velocity is
 // J qd) and H^-1 J^T, so that an impulse P on it changes the velocities by H^-1 J^T P (every
 // link moves), and the point's response is W = J H^-1 J^T. Both are kept for the step (as a
@@ -60,6 +61,7 @@ class LinkResponse final : public MultibodyResponse {
   std::vector<PluckerTransform<Real>> X0_;  // base to link, now
   std::vector<Point> points_;               // grows, kept between steps (no reallocation)
   int pointCount_ = 0;
+  bool factored_ = false;  // ws_.llt holds this step's H
   VectorX<Real> delta_;  // scratch of applyImpulse
 };
 
