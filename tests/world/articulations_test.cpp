@@ -104,6 +104,24 @@ TEST(WorldArticulations, ElasticImpactOfAPendulumFollowsTheClosedForm) {
   EXPECT_NEAR(world.articulation(p).qd()(0), w1, Real(2e-3) * w0);
 }
 
+// Link against link: two equal pendulums, pivots 2r + 1 mm apart along y, balls touching along
+// y with lever arms L. A swings at w0 into B at rest; plastic and frictionless, equal and
+// opposite impulses P L on equal Ip leave both at w0 / 2 (the normal's turn bounds the error as
+// in the ball's case: 1e-3).
+TEST(WorldArticulations, TwoPendulumsShareTheirSwingInAPlasticImpact) {
+  const Real L = 1, m = 1, w0 = 1;
+  World world({.gravity = Vec3::Zero(), .threads = 1});
+  WorldArticulationSettings a = pendulum(L, m, 0);
+  a.qd = art::VectorX<Real>::Constant(1, w0);
+  WorldArticulationSettings b = pendulum(L, m, 0);
+  b.name = "second";
+  b.base.p = Vec3(0, 2 * kRadius + Real(0.001), 0);
+  const ArticulationId pa = world.createArticulation(a), pb = world.createArticulation(b);
+  for (int i = 0; i < 10; ++i) world.step(Real(1) / 60);
+  EXPECT_NEAR(world.articulation(pa).qd()(0), w0 / 2, Real(1e-3) * w0);
+  EXPECT_NEAR(world.articulation(pb).qd()(0), w0 / 2, Real(1e-3) * w0);
+}
+
 // In gravity, the pendulum (horizontal, its ball at x = L) rests on a box on the ground: the
 // frictionless contact's normal force N balances the link's weight about the pivot,
 // N L = m g L: N = m g.
