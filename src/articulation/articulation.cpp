@@ -67,8 +67,28 @@ void Articulation<S>::setDrive(int dof, const Drive<S>& drive) {
 template <class S>
 void Articulation<S>::step(S h) {
   require(std::isfinite(h) && h > 0, "articulation: step: h must be finite and > 0");
+  if (settings_.integrator == Integrator::SemiImplicitEuler) {
+    integrateVelocity(h);
+    integratePosition(h);
+    return;
+  }
   qStart_ = q_;
   integrateSmooth(h);
+  buildJointRows(h);
+  solveJointRows(h);
+  recoverLimits();
+}
+
+template <class S>
+void Articulation<S>::integrateVelocity(S h) {
+  aba<S>(model_, q_, qd_, tau_, qdd_, ws_);
+  qd_ += h * qdd_;
+}
+
+template <class S>
+void Articulation<S>::integratePosition(S h) {
+  qStart_ = q_;
+  integrateConfiguration<S>(model_, q_, qd_, h);
   buildJointRows(h);
   solveJointRows(h);
   recoverLimits();

@@ -21,6 +21,8 @@ void finalizeBodies(RigidBodyData& D, const DynamicsSettings& s, Real dt, StepWo
         for (std::uint32_t bi = std::uint32_t(first); bi < last; ++bi) {
           BodyRecord& b = D.bodies[bi];
           if (!b.alive || b.type == BodyType::Static || !b.awake) continue;
+          // A driven body: its owner moves it after the step (setDrivenState).
+          if (b.group >= 0) continue;
           const int k = D.solverIndex[bi];
           if (k >= 0) {
             const SolverBody& sb = D.solverBodies[static_cast<std::size_t>(k)];

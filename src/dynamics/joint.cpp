@@ -95,6 +95,11 @@ JointRecord commonRecord(Data& D, const S& s, JointType type, const char* name) 
   check(D.isValidBody(s.bodyB), name, "bodyB", "is not a valid body");
   check(s.bodyA.isNull() || D.isValidBody(s.bodyA), name, "bodyA", "is not a valid body");
   check(s.bodyA != s.bodyB, name, "bodyB", "must differ from bodyA (a body joined to itself)");
+  // Loops through articulations' links are not solved yet (multibody.h).
+  check(D.bodies[s.bodyB.index].group < 0, name, "bodyB",
+        "is an articulation's link (not supported)");
+  check(s.bodyA.isNull() || D.bodies[s.bodyA.index].group < 0, name, "bodyA",
+        "is an articulation's link (not supported)");
   check(allFinite(s.anchorA), name, "anchorA", "must be finite (m)");
   check(allFinite(s.anchorB), name, "anchorB", "must be finite (m)");
   check(!std::isnan(s.breakForce) && s.breakForce >= 0, name, "breakForce", "must be >= 0 (N)");

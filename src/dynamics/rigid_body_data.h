@@ -13,6 +13,7 @@
 #include "contact_solver.h"
 #include "inertia/collision/broad_phase.h"
 #include "inertia/core/error.h"
+#include "inertia/dynamics/multibody.h"
 #include "inertia/dynamics/rigid_body_system.h"
 #include "inertia/ode/step.h"
 #include "islands.h"
@@ -68,6 +69,9 @@ struct BodyRecord {
   std::vector<std::uint32_t> shapes;
   std::vector<std::uint32_t> joints;  // the joints attached to it (slots)
   std::string name;
+  // A driven body (multibody.h): its group and its member index there; -1 for a rigid body.
+  int group = -1;
+  int member = -1;
 
   Mat3 invInertiaWorld() const {
     const Mat3 R = pose.q.toRotationMatrix();
@@ -175,6 +179,44 @@ inline ProxyType proxyType(BodyType t) {
                                     : ProxyType::Dynamic;
 }
 
+// A group of driven bodies and the response that moves them (multibody.h).
+struct MultibodyGroup {
+  MultibodyResponse* response = nullptr;  // null when the slot is free
+  std::vector<std::uint32_t> members;     // body slots, by member index
+};
+
+// One side of a contact that touches a driven body: a solver body (-1 for a static one), or a
+// point of a group.
+struct MultibodySide {
+  int body = -1;
+  int group = -1;
+};
+
+struct MultibodyPoint {
+  std::array<int, 2> handle{-1, -1};  // per side, the group's point (a driven side)
+  Vec3 rA = Vec3::Zero();             // anchors from the rigid sides' centres of mass (m)
+  Vec3 rB = Vec3::Zero();
+  Real separation = 0;  // at the step's start (m)
+  Real normalMass = 0;
+  std::array<Real, 2> tangentMass{};
+  Real normalImpulse = 0;
+  std::array<Real, 2> tangentImpulse{};
+  Real maxNormalImpulse = 0;
+  Real relativeVelocity = 0;  // normal velocity at the step's start (m/s)
+};
+
+struct MultibodyContact {
+  int contactIndex = 0;
+  MultibodySide a, b;
+  Vec3 normal = Vec3::UnitY();
+  std::array<Vec3, 2> tangent{Vec3::UnitX(), Vec3::UnitZ()};
+  std::array<MultibodyPoint, 4> points{};
+  int pointCount = 0;
+  Real friction = 0;
+  Real restitution = 0;
+  Softness softness{};
+};
+
 struct RigidBodyData {
   std::vector<BodyRecord> bodies;
   std::vector<ShapeRecord> shapes;
@@ -193,6 +235,8 @@ struct RigidBodyData {
   std::vector<JointRecord> joints;
   int liveJoints = 0;
   std::vector<JointEvent> jointEvents;  // the joints that broke in the last step
+  std::vector<MultibodyGroup> multibodies;
+  std::vector<MultibodyContact> multibodyContacts;  // this step's contacts on driven bodies
 
   // Scratch, reused from step to step.
   std::vector<int> awakeProxies;  // the proxies of the awake bodies
@@ -225,6 +269,7 @@ struct RigidBodyData {
     bool awake = false;
     bool fast = false;  // its body is continuous this step (BodyRecord::fast)
     bool jointed = false;  // its body has an enabled joint whose bodies do not collide
+    int group = -1;        // its body's multibody group (BodyRecord::group)
     Real radius = std::numeric_limits<Real>::infinity();  // ShapeRecord::radius
   };
   std::vector<ShapeFrame> frames;

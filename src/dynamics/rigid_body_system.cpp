@@ -259,6 +259,9 @@ BodyId RigidBodySystem::createBody(const BodySettings& settings) {
 void RigidBodySystem::destroyBody(BodyId id) {
   Data& D = *d_;
   BodyRecord& b = D.body(id);
+  require(b.group < 0,
+          "RigidBodySystem::destroyBody: the body is a link of a multibody group "
+          "(remove the group first)");
   for (std::uint32_t si : b.shapes) {
     ShapeRecord& s = D.shapes[si];
     if (s.proxy != BroadPhase::kNull) D.broadPhase.destroyProxy(s.proxy);
@@ -456,6 +459,60 @@ void RigidBodySystem::applyAngularImpulse(BodyId id, const Vec3& L) {
 
 void RigidBodySystem::wake(BodyId id) { d_->wake(d_->body(id)); }
 
+int RigidBodySystem::addMultibody(MultibodyResponse* response, std::span<const BodyId> members) {
+  require(response != nullptr, "RigidBodySystem::addMultibody: the response is null");
+  Data& D = *d_;
+  for (const BodyId id : members) {
+    const BodyRecord& b = D.body(id);
+    require(b.type == BodyType::Dynamic && b.group < 0,
+            "RigidBodySystem::addMultibody: a member is not a dynamic body outside any group");
+    require(b.joints.empty(), "RigidBodySystem::addMultibody: a member has joints");
+  }
+  std::size_t g = 0;
+  while (g < D.multibodies.size() && D.multibodies[g].response) ++g;
+  if (g == D.multibodies.size()) D.multibodies.emplace_back();
+  detail::MultibodyGroup& group = D.multibodies[g];
+  group.response = response;
+  group.members.clear();
+  for (std::size_t m = 0; m < members.size(); ++m) {
+    BodyRecord& b = D.body(members[m]);
+    b.group = static_cast<int>(g);
+    b.member = static_cast<int>(m);
+    b.allowSleep = false;
+    D.wake(b);
+    group.members.push_back(members[m].index);
+  }
+  // The members' pairs with each other go.
+  D.pairsDirty = true;
+  return static_cast<int>(g);
+}
+
+void RigidBodySystem::removeMultibody(int group) {
+  Data& D = *d_;
+  require(group >= 0 && std::size_t(group) < D.multibodies.size() &&
+              D.multibodies[std::size_t(group)].response,
+          "RigidBodySystem::removeMultibody: no group " + std::to_string(group));
+  detail::MultibodyGroup& g = D.multibodies[std::size_t(group)];
+  for (std::uint32_t bi : g.members) {
+    BodyRecord& b = D.bodies[bi];
+    if (!b.alive || b.group != group) continue;
+    b.group = -1;
+    b.member = -1;
+  }
+  g = detail::MultibodyGroup{};
+  D.pairsDirty = true;
+}
+
+void RigidBodySystem::setDrivenState(BodyId id, const Transform& pose, const Vec3& originVelocity,
+                                     const Vec3& angularVelocity) {
+  BodyRecord& b = d_->body(id);
+  require(b.group >= 0, "RigidBodySystem::setDrivenState: the body is not driven");
+  b.pose = {pose.p, pose.q.normalized()};
+  b.com = b.pose.apply(b.localCom);
+  b.w = angularVelocity;
+  b.v = originVelocity + angularVelocity.cross(b.com - b.pose.p);
+}
+
 int RigidBodySystem::bodyCount() const { return d_->liveBodies; }
 
 int RigidBodySystem::contactCount() const {
@@ -522,7 +579,7 @@ std::optional<WorldRayHit> RigidBodySystem::castRay(const Ray& ray) const {
 Real RigidBodySystem::kineticEnergy() const {
   Real e = 0;
   for (const BodyRecord& b : d_->bodies) {
-    if (!b.alive || b.type != BodyType::Dynamic) continue;
+    if (!b.alive || b.type != BodyType::Dynamic || b.group >= 0) continue;
     const Mat3 R = b.pose.q.toRotationMatrix();
     e += Real(0.5) * b.mass * b.v.squaredNorm() +
          Real(0.5) * b.w.dot(worldMomentum(R, b.inertiaLocal, b.w));
@@ -533,14 +590,14 @@ Real RigidBodySystem::kineticEnergy() const {
 Vec3 RigidBodySystem::linearMomentum() const {
   Vec3 p = Vec3::Zero();
   for (const BodyRecord& b : d_->bodies)
-    if (b.alive && b.type == BodyType::Dynamic) p += b.mass * b.v;
+    if (b.alive && b.type == BodyType::Dynamic && b.group < 0) p += b.mass * b.v;
   return p;
 }
 
 Vec3 RigidBodySystem::angularMomentum(const Vec3& about) const {
   Vec3 L = Vec3::Zero();
   for (const BodyRecord& b : d_->bodies) {
-    if (!b.alive || b.type != BodyType::Dynamic) continue;
+    if (!b.alive || b.type != BodyType::Dynamic || b.group >= 0) continue;
     const Mat3 R = b.pose.q.toRotationMatrix();
     L += worldMomentum(R, b.inertiaLocal, b.w) + (b.com - about).cross(b.mass * b.v);
   }

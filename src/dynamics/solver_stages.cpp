@@ -8,6 +8,7 @@
 #include "integrate.h"
 #include "joint_solver.h"
 #include "lcp_contact.h"
+#include "multibody_contacts.h"
 
 namespace inertia::detail {
 
@@ -207,17 +208,21 @@ void warmStart(Data& D, int stamp, Real h, StepWorkers& workers) {
       [&](std::uint32_t first, std::size_t count) {
         D.bundles.warmStart(D.solverBodies.data(), first, count);
       });
+  warmStartMultibodyContacts(D);
 }
 
 void solve(Data& D, const BiasMode& mode, const JointPass& jointPass, int iterations,
            StepWorkers& workers) {
-  for (int it = 0; it < iterations; ++it)
+  for (int it = 0; it < iterations; ++it) {
     forEachColor(
         D, workers,
         [&](std::uint32_t k) { solveJoint(D, D.jointConstraints[k], D.solverBodies, jointPass); },
         [&](std::uint32_t first, std::size_t count) {
           D.bundles.solve(D.solverBodies.data(), mode, first, count);
         });
+    // The contacts on driven bodies, in sequence after the colours (multibody_contacts.h).
+    solveMultibodyContacts(D, mode);
+  }
 }
 
 // soft_step's relaxation: the solve passes without the position bias (relaxMode.useBias off).
@@ -279,6 +284,10 @@ void solveIslandsLcp(Data& D, const BiasMode& mode, const JointPass& jointPass, 
     else
       solveIslandPgs(D, island, rigid, jointPass, iterations);
   }
+  // The contacts on driven bodies are not in the LCPs: pgs passes after them.
+  if (D.multibodyContacts.empty()) return;
+  warmStartMultibodyContacts(D);
+  for (int it = 0; it < iterations; ++it) solveMultibodyContacts(D, rigid);
 }
 
 // The impulses into the contacts, for the next step's warm start and for the user.
@@ -333,6 +342,7 @@ void prepareContacts(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
   // the rest of each constraint in parallel.
   D.constraints.clear();
   D.contactEdges.clear();
+  D.multibodyContacts.clear();
   for (std::size_t ci = 0; ci < D.contacts.size(); ++ci) {
     const ContactInfo& info = D.contacts[ci];
     const BodyRecord& ba = D.bodies[info.bodyA.index];
@@ -340,6 +350,16 @@ void prepareContacts(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
     const bool aActive = ba.type == BodyType::Dynamic && ba.awake;
     const bool bActive = bb.type == BodyType::Dynamic && bb.awake;
     if (!aActive && !bActive) continue;
+    if (ba.group >= 0 || bb.group >= 0) {
+      // A driven body's contact: its own stage (multibody_contacts.h), out of the graph.
+      MultibodyContact& m = D.multibodyContacts.emplace_back();
+      m.contactIndex = static_cast<int>(ci);
+      m.a = ba.group >= 0 ? MultibodySide{-1, ba.group}
+                          : MultibodySide{solverSlot(D, info.bodyA.index), -1};
+      m.b = bb.group >= 0 ? MultibodySide{-1, bb.group}
+                          : MultibodySide{solverSlot(D, info.bodyB.index), -1};
+      continue;
+    }
     ContactConstraint& c = D.constraints.emplace_back();
     c.contactIndex = static_cast<int>(ci);
     c.bodyA = solverSlot(D, info.bodyA.index);
@@ -353,6 +373,7 @@ void prepareContacts(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
   const Real hertz = std::min(tuning.hertz, Real(0.25) / h);
   const Softness soft = makeSoft(hertz, tuning.dampingRatio, h);
   const Softness staticSoft = makeSoft(2 * hertz, tuning.dampingRatio, h);
+  prepareMultibodyContacts(D, s, soft, staticSoft);
   workers.parallelFor(
       D.constraints.size(),
       [&](std::size_t first, std::size_t last) {
@@ -412,6 +433,7 @@ double solveSubsteps(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
       D.bundles.beginApproach(D.solverBodies, workers);
     auto ti = Clock::now();
     integrateVelocities(D, h, workers);
+    integrateMultibodyVelocities(D, h, workers);
     integrationTime += std::chrono::duration<double>(Clock::now() - ti).count();
     if (lcp) {
       // Direct LCP per island in place of the warm start and iterations (lcp_contact.h).
@@ -423,6 +445,7 @@ double solveSubsteps(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
     }
     ti = Clock::now();
     integratePositions(D, h, workers);
+    integrateMultibodyPositions(D, h, workers);
     integrationTime += std::chrono::duration<double>(Clock::now() - ti).count();
     if (!lcp) D.bundles.updateMotion(D.solverBodies, workers);
     if (softStep) relax(D, relaxMode, jointRelax, s.solver.relaxIterations, workers);
@@ -433,7 +456,9 @@ double solveSubsteps(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
     D.bundles.applyRestitution(D.solverBodies, tuning.restitutionThreshold, workers);
     D.bundles.store(D.constraints, workers);
   }
+  restituteMultibodyContacts(D, tuning.restitutionThreshold);
   storeImpulses(D, workers);
+  storeMultibodyContacts(D);
   storeJoints(D, h, workers);
   return integrationTime;
 }

@@ -14,6 +14,9 @@
 // colour on the step's workers, a colour's joints beside its contacts; storeImpulses also
 // keeps the joints' and breaks those past their threshold. The LCP solvers (lcp_contact.h) take
 // the place of the contacts' warmStart and solve per island, after the joints' passes.
+// Contacts on driven bodies (an articulation's links, multibody_contacts.h) are out of the
+// graph: each pass runs them in sequence after the colours, and the driven groups integrate
+// their velocities and positions beside the solver bodies'.
 #pragma once
 
 #include "rigid_body_data.h"

@@ -25,6 +25,8 @@ Material readMaterialObject(const Node& n, Material m) {
   return m;
 }
 
+}  // namespace
+
 // "material": a name from "materials" or an inline object; absent gives `fallback`.
 Material readMaterialRef(const Node& owner, const MaterialTable& table, const Material& fallback) {
   if (!owner.has("material")) return fallback;
@@ -43,6 +45,8 @@ Material readMaterialRef(const Node& owner, const MaterialTable& table, const Ma
   }
   return readMaterialObject(n, fallback);
 }
+
+namespace {
 
 std::optional<Vec3> readColor(const Node& owner) {
   if (!owner.has("color")) return std::nullopt;

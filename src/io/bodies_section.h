@@ -17,6 +17,10 @@ using MaterialTable = std::map<std::string, Material, std::less<>>;
 /// Reads "materials": an object of name -> material.
 MaterialTable readMaterials(const Node& n);
 
+/// A shape's or body's "material": a name from `table` or an inline object; absent gives
+/// `fallback`.
+Material readMaterialRef(const Node& owner, const MaterialTable& table, const Material& fallback);
+
 /// Reads one entry of "bodies" (a body or a generator) and appends what it describes to
 /// `scene.bodies`, and a jointed generator's joints to `scene.joints` (their pointer the
 /// entry's, their bodies indices into scene.bodies).

@@ -5,6 +5,7 @@
 #include <sstream>
 #include <variant>
 
+#include "articulations_section.h"
 #include "bodies_section.h"
 #include "deformables_section.h"
 #include "inertia/core/error.h"
@@ -132,7 +133,7 @@ Scene parseScene(const std::string& text, const std::filesystem::path& name) {
   scene.file = name;
   Node n(root, detail::Pointer(), file);
   n.requireObject({"world", "camera", "materials", "bodies", "joints", "particle_systems",
-                   "deformables"});
+                   "deformables", "articulations"});
   if (n.has("world")) readWorld(n.at("world"), scene.world);
   if (n.has("camera")) scene.camera = readCamera(n.at("camera"));
   detail::MaterialTable materials;
@@ -169,6 +170,19 @@ Scene parseScene(const std::string& text, const std::filesystem::path& name) {
     Node list = n.at("deformables");
     for (std::size_t i = 0; i < list.requireArray(); ++i)
       scene.deformables.push_back(detail::readDeformable(list.at(i), i));
+  }
+  if (n.has("articulations")) {
+    // Their links are bodies named ARTICULATION/LINK: the names must not clash with the
+    // bodies' either.
+    UniqueNames articulationNames("articulation", "articulations");
+    Node list = n.at("articulations");
+    for (std::size_t i = 0; i < list.requireArray(); ++i) {
+      scene.articulations.push_back(detail::readArticulation(list.at(i), i, materials));
+      const ArticulationDesc& a = scene.articulations.back();
+      articulationNames.add(list.at(i), a.settings.name);
+      for (const auto& link : a.settings.model.links())
+        bodyNames.add(list.at(i), a.settings.name + "/" + link.name);
+    }
   }
   return scene;
 }
@@ -235,6 +249,13 @@ std::unique_ptr<World> instantiate(const Scene& scene) {
     }
     for (const ForceField& f : d.fields) ps.addField(f);
     for (const Obstacle& o : d.obstacles) ps.addObstacle(o);
+  }
+  for (const ArticulationDesc& d : scene.articulations) {
+    try {
+      world->createArticulation(d.settings);
+    } catch (const InvalidArgument& e) {
+      throw SceneError(scene.file.string(), d.pointer, e.what());
+    }
   }
   for (const DeformableDesc& d : scene.deformables) {
     Deformable& deformable = world->deformable(world->createDeformable(d.settings, d.model));

@@ -7,6 +7,7 @@
 
 #include "core/thread_pool_impl.h"
 #include "dynamics/step_workers.h"
+#include "inertia/articulation/link_response.h"
 #include "inertia/core/error.h"
 
 namespace inertia {
@@ -52,7 +53,11 @@ void World::step(Real dt) {
     if (slot.system) followBodies(*slot.system);
   // One set of workers for the whole step: the rigid bodies' stages, then the particles'.
   detail::StepWorkers::run(&threads_->impl().arena, [&](detail::StepWorkers& workers) {
+    // Articulations step inside the bodies' substeps (their links are driven bodies); their
+    // link bodies follow them after.
     bodies_.step(dt, dynamics, workers);
+    for (const ArticulationSlot& slot : articulationSlots_)
+      if (slot.articulation) followArticulation(slot);
     const auto t0 = Clock::now();
     bool obstaclesGathered = false;
     for (ParticleSlot& slot : particleSlots_) {

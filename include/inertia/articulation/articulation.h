@@ -62,6 +62,17 @@ class Articulation {
   /// Advances by h seconds (h > 0 and finite, else InvalidArgument).
   void step(S h);
 
+  /// The step in two halves, for a world that solves contacts between them (World's substeps,
+  /// link_response.h): the smooth velocity update by ABA (semi-implicit Euler whatever the
+  /// integrator), then the position update and the joint-space constraint stage. With
+  /// semi-implicit Euler, integrateVelocity(h); integratePosition(h) is step(h). No checks.
+  void integrateVelocity(S h);
+  void integratePosition(S h);
+  /// Adds `delta` to the velocity qd (a contact's impulse through the mass matrix). No checks.
+  void addVelocity(const ConstRef<S>& delta) { qd_ += delta; }
+  /// Gravity in the base frame (m/s^2).
+  void setGravity(const Vector3<S>& g) { model_.gravity = g; }
+
   /// Generalised impulses (N m s or N s) of the last step's constraint stage, per dof.
   const VectorX<S>& constraintImpulses() const { return impulse_; }
 

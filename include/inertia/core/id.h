@@ -34,5 +34,8 @@ using ParticleSystemId = Id<ParticleSystemTag>;
 struct DeformableTag;
 /// A mass-spring deformable in a World.
 using DeformableId = Id<DeformableTag>;
+struct ArticulationTag;
+/// A reduced-coordinate articulation in a World.
+using ArticulationId = Id<ArticulationTag>;
 
 }  // namespace inertia

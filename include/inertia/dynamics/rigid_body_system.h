@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string_view>
 #include <vector>
 
@@ -16,6 +17,7 @@
 #include "inertia/core/types.h"
 #include "inertia/dynamics/body.h"
 #include "inertia/dynamics/joint.h"
+#include "inertia/dynamics/multibody.h"
 #include "inertia/geometry/bounds.h"
 #include "inertia/geometry/shapes.h"
 #include "inertia/ode/method.h"
@@ -200,6 +202,20 @@ class RigidBodySystem {
   void applyAngularImpulse(BodyId id, const Vec3& impulse);  ///< (N m s)
   void wake(BodyId id);
 
+  // Driven bodies (multibody.h): an articulation's links. They take part in the broad and
+  // narrow phase as bodies; the solver neither integrates nor pushes them, but solves their
+  // contacts through `response`, and the owner moves them after each step.
+  /// Makes the dynamic bodies `members` (in member order) a group answered by `response`, which
+  /// must outlive the group. The members do not collide with each other and never sleep.
+  /// Returns the group. InvalidArgument for an invalid, non-dynamic, jointed or grouped member.
+  int addMultibody(MultibodyResponse* response, std::span<const BodyId> members);
+  /// Dissolves a group: its members become ordinary bodies again.
+  void removeMultibody(int group);
+  /// A driven body's pose (of its origin) and velocities: its origin's (m/s) and angular
+  /// (rad/s), world. InvalidArgument for a body that is not driven.
+  void setDrivenState(BodyId id, const Transform& pose, const Vec3& originVelocity,
+                      const Vec3& angularVelocity);
+
   // Joints (joint.h). Creation throws InvalidArgument naming the bad field: an invalid body,
   // a body joined to itself, a zero axis, a lower limit above the upper, a negative threshold.
   // It wakes both bodies.
@@ -284,7 +300,8 @@ class RigidBodySystem {
   /// The first shape the ray hits, over every body.
   std::optional<WorldRayHit> castRay(const Ray& ray) const;
 
-  /// Kinetic energy (J) and momenta of the dynamic bodies.
+  /// Kinetic energy (J) and momenta of the dynamic bodies (driven bodies left out: their owner
+  /// accounts for them).
   Real kineticEnergy() const;
   Vec3 linearMomentum() const;                 ///< (kg m/s)
   Vec3 angularMomentum(const Vec3& about) const;  ///< About a world point (kg m^2/s).

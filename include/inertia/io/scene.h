@@ -67,6 +67,13 @@ struct JointDesc {
   std::string pointer;
 };
 
+/// An articulation as described in a scene: the World's settings for it (model, shapes, base
+/// and initial state) and its JSON pointer, for errors that only createArticulation finds.
+struct ArticulationDesc {
+  WorldArticulationSettings settings;
+  std::string pointer;
+};
+
 /// A scene as read from a file: plain data, checked, not yet simulated.
 struct Scene {
   std::filesystem::path file;  ///< Where it was read from (for relative paths and messages).
@@ -78,6 +85,7 @@ struct Scene {
   std::vector<JointDesc> joints;
   std::vector<ParticleSystemDesc> particleSystems;
   std::vector<DeformableDesc> deformables;
+  std::vector<ArticulationDesc> articulations;
 };
 
 /// Appends an assembly's bodies and joints (inertia/world/builders.h) to `scene`, its joints'

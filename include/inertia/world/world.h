@@ -7,6 +7,7 @@
 #include <string_view>
 #include <vector>
 
+#include "inertia/articulation/articulation.h"
 #include "inertia/core/id.h"
 #include "inertia/core/types.h"
 #include "inertia/deformable/deformable.h"
@@ -31,6 +32,30 @@ struct WorldSettings {
 
 /// Checks settings and throws InvalidArgument naming the first bad field.
 void validate(const WorldSettings& settings);
+
+namespace articulation {
+class LinkResponse;
+}
+
+/// A collision shape on an articulation's link, at `pose` in the link's frame.
+struct LinkShapeSettings {
+  int link = 0;
+  Shape shape = Sphere{Real(0.1)};
+  Transform pose{};
+  Material material{};  ///< Its density is not used: the link's mass comes from the model.
+};
+
+/// An articulation in a World: a model, its collision shapes, where its base stands, and its
+/// initial state.
+struct WorldArticulationSettings {
+  std::string name;  ///< Its links are named NAME/LINK (recordings, messages).
+  articulation::Model<Real> model;
+  std::vector<LinkShapeSettings> shapes;
+  Transform base{};  ///< The base frame in the world (the frame of the root joints' origins).
+  articulation::ArticulationSettings<Real> solver{};
+  articulation::VectorX<Real> q;   ///< Empty: the neutral configuration.
+  articulation::VectorX<Real> qd;  ///< Empty: at rest.
+};
 
 /// Per-phase wall-clock seconds accumulated over all steps (broad phase, narrow phase, ...).
 struct PhaseTimes {
@@ -135,12 +160,35 @@ class World {
   /// The ids of the live deformables, in slot order (the order the world steps them).
   std::vector<DeformableId> deformables() const;
 
+  /// Adds an articulation (InvalidArgument for a bad model, state or shape). Each link becomes a
+  /// dynamic body of rigidBodies() named NAME/LINK that carries the link's shapes: it collides
+  /// with bodies and with other articulations' links (not with its own tree's), and its
+  /// contacts are solved in the bodies' substeps through the articulation's mass matrix
+  /// (link_response.h), with its limits, drives and friction after each substep's contacts.
+  /// The world steps the articulation in those substeps by semi-implicit Euler, in the world's
+  /// gravity; the link bodies follow it after each step.
+  ArticulationId createArticulation(const WorldArticulationSettings& settings);
+  /// Removes it and its link bodies; its id becomes invalid.
+  void destroyArticulation(ArticulationId id);
+  bool isValid(ArticulationId id) const;
+  /// The articulation of a valid id (InvalidArgument otherwise). After setState() on it, call
+  /// syncArticulation() so that the link bodies follow.
+  articulation::Articulation<Real>& articulation(ArticulationId id);
+  const articulation::Articulation<Real>& articulation(ArticulationId id) const;
+  void syncArticulation(ArticulationId id);
+  std::string_view articulationName(ArticulationId id) const;
+  /// The body of link `link` (InvalidArgument for a bad index).
+  BodyId linkBody(ArticulationId id, int link) const;
+  /// The ids of the live articulations, in slot order.
+  std::vector<ArticulationId> articulations() const;
+
   /// Seconds per phase, summed over all steps.
   PhaseTimes phaseTimes() const;
 
   /// A copy of everything the world simulates: the rigid bodies with their shapes, contacts
   /// and joints, every particle system and deformable (in its slot, so ids stay valid), and
-  /// the clock. restoreState() continues from it bit-identically. A State is immutable and
+  /// the clock (not the articulations yet: do not save a world with articulations).
+  /// restoreState() continues from it bit-identically. A State is immutable and
   /// cheap to copy (the systems are shared between copies).
   struct State {
     RigidBodySystem bodies;
@@ -169,6 +217,18 @@ class World {
     std::uint32_t generation = 1;
   };
   void stepDeformables(Real dt, bool& obstaclesGathered);
+  struct ArticulationSlot {
+    std::unique_ptr<articulation::Articulation<Real>> articulation;  // null when free
+    std::unique_ptr<articulation::LinkResponse> response;
+    std::vector<BodyId> links;
+    int group = -1;
+    std::string name;
+    std::uint32_t generation = 1;
+  };
+  ArticulationSlot& articulationSlot(ArticulationId id);
+  const ArticulationSlot& articulationSlot(ArticulationId id) const;
+  void followArticulation(const ArticulationSlot& slot);
+  std::vector<ArticulationSlot> articulationSlots_;
   WorldSettings settings_;
   // The world's threads: never more than settings.threads, so that results can be checked
   // across thread counts.

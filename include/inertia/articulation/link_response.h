@@ -1,0 +1,68 @@
+// An articulation's links as driven bodies of the rigid solver (dynamics/multibody.h): the
+// response of the links' points to contact impulses through the tree's mass matrix, and the
+// articulation's substeps inside the rigid bodies' own.
+//
+// At the step's start the mass matrix H is built (CRBA) and factored (Cholesky) once (when the
+// articulation has a contact); each
+// contact point p on link i gets its Jacobian J (3 x nv, world axes: the point's velocity is
+// J qd) and H^-1 J^T, so that an impulse P on it changes the velocities by H^-1 J^T P (every
+// link moves), and the point's response is W = J H^-1 J^T. Both are kept for the step (as a
+// rigid contact keeps its anchors). Each substep runs Articulation::integrateVelocity before the
+// contacts are solved and Articulation::integratePosition (positions, then limits, drives,
+// friction) after.
+#pragma once
+
+#include <vector>
+
+#include "inertia/articulation/articulation.h"
+#include "inertia/dynamics/multibody.h"
+
+namespace inertia::articulation {
+
+class LinkResponse final : public MultibodyResponse {
+ public:
+  /// `articulation` must outlive this; `base` places the base frame in the world. The
+  /// articulation's gravity is set from `gravity` (world, m/s^2) turned into the base frame.
+  LinkResponse(Articulation<Real>& articulation, const Transform& base, const Vec3& gravity);
+
+  const Transform& base() const { return base_; }
+  /// The world pose of link `link`'s frame now.
+  Transform linkPose(int link) const;
+  /// The velocities of link `link`'s origin (m/s) and its angular velocity (rad/s), world.
+  void linkVelocity(int link, Vec3& v, Vec3& w) const;
+  /// Recomputes the link poses (after the articulation's state was set from outside).
+  void updatePoses();
+
+  void beginStep() override;
+  int addPoint(int member, const Vec3& point) override;
+  Mat3 pointResponse(int handle) const override { return points_[std::size_t(handle)].W; }
+  Vec3 pointVelocity(int handle) const override;
+  Vec3 pointDisplacement(int handle) const override;
+  void applyImpulse(int handle, const Vec3& impulse) override;
+  void integrateVelocities(Real h) override { articulation_.integrateVelocity(h); }
+  void integratePositions(Real h) override;
+
+ private:
+  using Matrix3X = Eigen::Matrix<Real, 3, Eigen::Dynamic>;
+  using MatrixX3 = Eigen::Matrix<Real, Eigen::Dynamic, 3>;
+  struct Point {
+    int link = 0;
+    Vec3 local = Vec3::Zero();  // in the link's frame (m)
+    Vec3 start = Vec3::Zero();  // world, at the step's start (m)
+    Matrix3X J;                 // point velocity = J qd (world)
+    MatrixX3 MinvJt;            // H^-1 J^T
+    Mat3 W = Mat3::Zero();
+  };
+
+  Articulation<Real>& articulation_;
+  Transform base_;
+  Mat3 baseRotation_;
+  Workspace<Real> ws_;
+  std::vector<PluckerTransform<Real>> X0_;  // base to link, now
+  std::vector<Point> points_;               // grows, kept between steps (no reallocation)
+  int pointCount_ = 0;
+  bool factored_ = false;  // ws_.llt holds this step's H
+  VectorX<Real> delta_;  // scratch of applyImpulse
+};
+
+}  // namespace inertia::articulation

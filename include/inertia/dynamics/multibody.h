@@ -1,0 +1,40 @@
+// Bodies whose motion another system computes: the links of an articulation. They are bodies of
+// the RigidBodySystem for the broad and narrow phase, but the rigid solver neither integrates
+// nor pushes them directly: their contact rows are solved in the rigid bodies' substeps, in
+// sequence after the coloured constraints, through the owner's response (DESIGN.md section 1:
+// dynamics defines the rows and stages, a higher layer implements them for its links).
+#pragma once
+
+#include "inertia/core/types.h"
+
+namespace inertia {
+
+/// How a group of driven bodies (an articulation's links, its "members") answers impulses.
+/// Within RigidBodySystem::step the calls come in this order, from one thread per group:
+///   beginStep(); addPoint() for each contact point on a member;
+///   per substep: integrateVelocities(h); pointVelocity() / applyImpulse() while the contacts
+///     are solved; integratePositions(h); pointVelocity() / applyImpulse() in the relax pass;
+/// and then, after the step, the owner moves the member bodies (RigidBodySystem::setDrivenState).
+/// The virtual calls are made in sequence, never from parallel workers.
+class MultibodyResponse {
+ public:
+  virtual ~MultibodyResponse() = default;
+  /// The step starts: forget last step's points, prepare the response at this configuration.
+  virtual void beginStep() = 0;
+  /// A material point of member `member` at world position `point` (m) at the step's start;
+  /// returns its handle for this step.
+  virtual int addPoint(int member, const Vec3& point) = 0;
+  /// W = J M^-1 J^T: the point's velocity change per unit impulse on it (s/kg, world axes).
+  virtual Mat3 pointResponse(int handle) const = 0;
+  /// The point's velocity (m/s, world).
+  virtual Vec3 pointVelocity(int handle) const = 0;
+  /// The point's displacement since the step's start (m, world).
+  virtual Vec3 pointDisplacement(int handle) const = 0;
+  /// An impulse (N s, world) on the point: changes the velocities of every member.
+  virtual void applyImpulse(int handle, const Vec3& impulse) = 0;
+  /// The substep's velocity update (gravity, joint forces), then its position update.
+  virtual void integrateVelocities(Real h) = 0;
+  virtual void integratePositions(Real h) = 0;
+};
+
+}  // namespace inertia

@@ -1,0 +1,94 @@
+#include "inertia/articulation/link_response.h"
+
+namespace inertia::articulation {
+
+LinkResponse::LinkResponse(Articulation<Real>& articulation, const Transform& base,
+                           const Vec3& gravity)
+    : articulation_(articulation),
+      base_(base),
+      baseRotation_(base.q.toRotationMatrix()),
+      ws_(articulation.model()) {
+  articulation_.setGravity(baseRotation_.transpose() * gravity);
+  delta_.resize(articulation.model().nv());
+  updatePoses();
+}
+
+void LinkResponse::updatePoses() {
+  parentTransforms<Real>(articulation_.model(), articulation_.q(), ws_.Xup);
+  baseTransforms(articulation_.model(), ws_.Xup, X0_);
+}
+
+Transform LinkResponse::linkPose(int link) const {
+  // X0 maps base coordinates into the link's: the link's rotation in the base frame is E^T.
+  const PluckerTransform<Real>& X = X0_[std::size_t(link)];
+  return base_ * Transform{X.r, Quat(Mat3(X.E.transpose())).normalized()};
+}
+
+void LinkResponse::linkVelocity(int link, Vec3& v, Vec3& w) const {
+  const Model<Real>& m = articulation_.model();
+  const VectorX<Real>& qd = articulation_.qd();
+  const Vec3 p = X0_[std::size_t(link)].r;
+  Vec3 wb = Vec3::Zero(), vb = Vec3::Zero();
+  for (int j = link; j >= 0; j = m.link(j).parent) {
+    for (int k = m.link(j).vIndex; k < m.link(j).vIndex + m.link(j).nv; ++k) {
+      const Vector6<Real> s = X0_[std::size_t(j)].applyInverse(m.motionSubspace().col(k));
+      wb += s.head<3>() * qd(k);
+      vb += (s.tail<3>() + s.head<3>().cross(p)) * qd(k);
+    }
+  }
+  v = baseRotation_ * vb;
+  w = baseRotation_ * wb;
+}
+
+void LinkResponse::beginStep() {
+  pointCount_ = 0;
+  factored_ = false;
+}
+
+int LinkResponse::addPoint(int member, const Vec3& point) {
+  const Model<Real>& m = articulation_.model();
+  // H at the step's start, factored once, on the step's first contact point (none: no cost).
+  if (!factored_) {
+    crba<Real>(m, articulation_.q(), ws_);
+    ws_.llt.compute(ws_.H);
+    factored_ = true;
+  }
+  if (std::size_t(pointCount_) == points_.size()) points_.emplace_back();
+  Point& pt = points_[std::size_t(pointCount_)];
+  pt.link = member;
+  pt.start = point;
+  pt.local = linkPose(member).applyInverse(point);
+  // The point's Jacobian, as pointJacobian (kinematics.h), from this step's link transforms.
+  const Vec3 p = base_.applyInverse(point);
+  pt.J.setZero(3, m.nv());
+  for (int j = member; j >= 0; j = m.link(j).parent) {
+    for (int k = m.link(j).vIndex; k < m.link(j).vIndex + m.link(j).nv; ++k) {
+      const Vector6<Real> s = X0_[std::size_t(j)].applyInverse(m.motionSubspace().col(k));
+      pt.J.col(k) = baseRotation_ * (s.tail<3>() + s.head<3>().cross(p));
+    }
+  }
+  pt.MinvJt = ws_.llt.solve(pt.J.transpose());
+  pt.W = pt.J * pt.MinvJt;
+  return pointCount_++;
+}
+
+Vec3 LinkResponse::pointVelocity(int handle) const {
+  return points_[std::size_t(handle)].J * articulation_.qd();
+}
+
+Vec3 LinkResponse::pointDisplacement(int handle) const {
+  const Point& pt = points_[std::size_t(handle)];
+  return linkPose(pt.link).apply(pt.local) - pt.start;
+}
+
+void LinkResponse::applyImpulse(int handle, const Vec3& impulse) {
+  delta_.noalias() = points_[std::size_t(handle)].MinvJt * impulse;
+  articulation_.addVelocity(delta_);
+}
+
+void LinkResponse::integratePositions(Real h) {
+  articulation_.integratePosition(h);
+  updatePoses();
+}
+
+}  // namespace inertia::articulation

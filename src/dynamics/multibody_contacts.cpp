@@ -1,0 +1,254 @@
+#include "multibody_contacts.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "inertia/core/math.h"
+
+namespace inertia::detail {
+
+using Data = RigidBodyData;
+
+namespace {
+
+MultibodyResponse& response(Data& D, const MultibodySide& s) {
+  return *D.multibodies[std::size_t(s.group)].response;
+}
+
+// A side's point: its velocity, its velocity change per unit impulse, its displacement since
+// the step's start, and an impulse on it. A rigid side's anchor r is fixed for the step, as the
+// coloured contacts' is (Box2D v3).
+Vec3 velocity(Data& D, const MultibodySide& s, int handle, const Vec3& r) {
+  if (s.group >= 0) return response(D, s).pointVelocity(handle);
+  if (s.body < 0) return Vec3::Zero();
+  const SolverBody& b = D.solverBodies[std::size_t(s.body)];
+  return b.v + b.w.cross(r);
+}
+
+Mat3 responseMatrix(Data& D, const MultibodySide& s, int handle, const Vec3& r) {
+  if (s.group >= 0) return response(D, s).pointResponse(handle);
+  if (s.body < 0) return Mat3::Zero();
+  // dv = P / m + (I^-1 (r x P)) x r = (1/m - [r] I^-1 [r]) P.
+  const SolverBody& b = D.solverBodies[std::size_t(s.body)];
+  const Mat3 R = skew(r);
+  return b.invMass * Mat3::Identity() - R * b.invInertia * R;
+}
+
+Vec3 displacement(Data& D, const MultibodySide& s, int handle, const Vec3& r) {
+  if (s.group >= 0) return response(D, s).pointDisplacement(handle);
+  if (s.body < 0) return Vec3::Zero();
+  const SolverBody& b = D.solverBodies[std::size_t(s.body)];
+  return b.dp + b.dR * r - r;
+}
+
+void applyImpulse(Data& D, const MultibodySide& s, int handle, const Vec3& r, const Vec3& P) {
+  if (s.group >= 0) return response(D, s).applyImpulse(handle, P);
+  if (s.body < 0) return;
+  SolverBody& b = D.solverBodies[std::size_t(s.body)];
+  b.v += b.invMass * P;
+  b.w += b.invInertia * r.cross(P);
+}
+
+// The relative velocity B - A at point k.
+Vec3 relativeVelocity(Data& D, const MultibodyContact& c, const MultibodyPoint& p) {
+  return velocity(D, c.b, p.handle[1], p.rB) - velocity(D, c.a, p.handle[0], p.rA);
+}
+
+// An impulse P on B at point k, -P on A.
+void applyPair(Data& D, const MultibodyContact& c, const MultibodyPoint& p, const Vec3& P) {
+  applyImpulse(D, c.a, p.handle[0], p.rA, -P);
+  applyImpulse(D, c.b, p.handle[1], p.rB, P);
+}
+
+Real invEffective(Real k) { return k > 0 ? Real(1) / k : Real(0); }
+
+// The points of contact c: anchors, the groups' points, and last step's impulses.
+void preparePoints(Data& D, const DynamicsSettings& s, MultibodyContact& c) {
+  const ContactInfo& info = D.contacts[std::size_t(c.contactIndex)];
+  const BodyRecord& ba = D.bodies[info.bodyA.index];
+  const BodyRecord& bb = D.bodies[info.bodyB.index];
+  const Material& ma = D.frames[info.shapeA.index].material;
+  const Material& mb = D.frames[info.shapeB.index].material;
+  c.restitution = combine(s.combine.restitution, ma.restitution, mb.restitution);
+  c.normal = info.manifold.normal;
+  c.pointCount = info.manifold.pointCount;
+  Vec3 slip = Vec3::Zero();
+  std::array<Vec3, 4> dvs;
+  for (int k = 0; k < c.pointCount; ++k) {
+    const ContactPoint& cp = info.manifold.points[std::size_t(k)];
+    MultibodyPoint& p = c.points[std::size_t(k)];
+    const Vec3 mid = Real(0.5) * (cp.pointA + cp.pointB);
+    p.rA = mid - ba.com;
+    p.rB = mid - bb.com;
+    p.handle[0] = c.a.group >= 0 ? response(D, c.a).addPoint(ba.member, mid) : -1;
+    p.handle[1] = c.b.group >= 0 ? response(D, c.b).addPoint(bb.member, mid) : -1;
+    p.separation = cp.separation;
+    dvs[std::size_t(k)] = relativeVelocity(D, c, p);
+    slip += dvs[std::size_t(k)];
+  }
+  // Friction axes along the sliding direction when sliding, as the coloured contacts'.
+  slip -= slip.dot(c.normal) * c.normal;
+  if (slip.norm() / Real(c.pointCount) > kStickSpeed) {
+    c.tangent[0] = slip.normalized();
+    c.tangent[1] = c.normal.cross(c.tangent[0]);
+  } else {
+    c.tangent = tangentBasis(c.normal);
+  }
+  const ContactExtra& extra = D.extras[std::size_t(c.contactIndex)];
+  Real tangentialSpeed2 = 0;
+  for (int k = 0; k < c.pointCount; ++k) {
+    MultibodyPoint& p = c.points[std::size_t(k)];
+    const Mat3 W =
+        responseMatrix(D, c.a, p.handle[0], p.rA) + responseMatrix(D, c.b, p.handle[1], p.rB);
+    p.normalMass = invEffective(c.normal.dot(W * c.normal));
+    for (int t = 0; t < 2; ++t) {
+      p.tangentMass[std::size_t(t)] = invEffective(c.tangent[t].dot(W * c.tangent[t]));
+      p.tangentImpulse[std::size_t(t)] = extra.tangentImpulse[std::size_t(k)].dot(c.tangent[t]);
+    }
+    p.normalImpulse = info.normalImpulses[std::size_t(k)];
+    p.maxNormalImpulse = 0;
+    const Vec3& dv = dvs[std::size_t(k)];
+    p.relativeVelocity = dv.dot(c.normal);
+    tangentialSpeed2 =
+        std::max(tangentialSpeed2, (dv - p.relativeVelocity * c.normal).squaredNorm());
+  }
+  const bool sticking = tangentialSpeed2 < kStickSpeed * kStickSpeed;
+  c.friction = sticking ? combine(s.combine.friction, ma.friction, mb.friction)
+                        : combine(s.combine.friction, ma.sliding(), mb.sliding());
+}
+
+// Whether a side cannot move: a static body, or a kinematic one.
+bool fixedSide(const Data& D, const MultibodySide& s) {
+  return s.group < 0 && (s.body < 0 || D.solverBodies[std::size_t(s.body)].invMass == 0);
+}
+
+}  // namespace
+
+void prepareMultibodyContacts(Data& D, const DynamicsSettings& s, const Softness& soft,
+                              const Softness& staticSoft) {
+  for (MultibodyGroup& g : D.multibodies)
+    if (g.response) g.response->beginStep();
+  for (MultibodyContact& c : D.multibodyContacts) {
+    preparePoints(D, s, c);
+    c.softness = fixedSide(D, c.a) || fixedSide(D, c.b) ? staticSoft : soft;
+  }
+}
+
+void integrateMultibodyVelocities(Data& D, Real h, StepWorkers& workers) {
+  workers.parallelFor(D.multibodies.size(), 1, [&](std::size_t first, std::size_t last) {
+    for (std::size_t g = first; g < last; ++g)
+      if (D.multibodies[g].response) D.multibodies[g].response->integrateVelocities(h);
+  });
+}
+
+void integrateMultibodyPositions(Data& D, Real h, StepWorkers& workers) {
+  workers.parallelFor(D.multibodies.size(), 1, [&](std::size_t first, std::size_t last) {
+    for (std::size_t g = first; g < last; ++g)
+      if (D.multibodies[g].response) D.multibodies[g].response->integratePositions(h);
+  });
+}
+
+void warmStartMultibodyContacts(Data& D) {
+  for (const MultibodyContact& c : D.multibodyContacts) {
+    for (int k = 0; k < c.pointCount; ++k) {
+      const MultibodyPoint& p = c.points[std::size_t(k)];
+      applyPair(D, c, p,
+                p.normalImpulse * c.normal + p.tangentImpulse[0] * c.tangent[0] +
+                    p.tangentImpulse[1] * c.tangent[1]);
+    }
+  }
+}
+
+void solveMultibodyContacts(Data& D, const BiasMode& mode) {
+  for (MultibodyContact& c : D.multibodyContacts) {
+    // The normal rows, as the coloured contacts' normalRow (contact_kernels.inl).
+    for (int k = 0; k < c.pointCount; ++k) {
+      MultibodyPoint& p = c.points[std::size_t(k)];
+      const Real s = p.separation + (displacement(D, c.b, p.handle[1], p.rB) -
+                                     displacement(D, c.a, p.handle[0], p.rA))
+                                        .dot(c.normal);
+      Real bias = 0, massScale = 1, impulseScale = 0;
+      if (mode.useBias) {
+        if (mode.soft) {
+          bias = std::max(c.softness.biasRate * s, -mode.pushVelocity);
+          massScale = c.softness.massScale;
+          impulseScale = c.softness.impulseScale;
+        } else {
+          bias = std::max(mode.baumgarte * mode.invH * std::min(s + mode.linearSlop, Real(0)),
+                          -mode.pushVelocity);
+        }
+      }
+      const bool open = s > 0;
+      if (open) {
+        // Speculative: the gap may close within this substep, no more.
+        bias = s * mode.invH;
+        massScale = 1;
+        impulseScale = 0;
+      }
+      if (!mode.useBias && open && c.restitution != 0) continue;
+      const Real vn = relativeVelocity(D, c, p).dot(c.normal);
+      const Real accumulated = p.normalImpulse;
+      const Real impulse0 = -p.normalMass * massScale * (vn + bias) - impulseScale * accumulated;
+      const Real updated = std::max(accumulated + impulse0, Real(0));
+      p.normalImpulse = updated;
+      p.maxNormalImpulse = std::max(p.maxNormalImpulse, updated - accumulated);
+      applyPair(D, c, p, (updated - accumulated) * c.normal);
+    }
+    // Coulomb friction: the tangential impulse in the disc of radius mu * normal impulse.
+    for (int k = 0; k < c.pointCount; ++k) {
+      MultibodyPoint& p = c.points[std::size_t(k)];
+      const Vec3 dv = relativeVelocity(D, c, p);
+      std::array<Real, 2> updated;
+      for (int t = 0; t < 2; ++t)
+        updated[std::size_t(t)] =
+            p.tangentImpulse[std::size_t(t)] - p.tangentMass[std::size_t(t)] * dv.dot(c.tangent[t]);
+      const Real limit = c.friction * p.normalImpulse;
+      const Real norm = std::hypot(updated[0], updated[1]);
+      if (norm > limit) {
+        const Real scale = norm > 0 ? limit / norm : Real(0);
+        updated[0] *= scale;
+        updated[1] *= scale;
+      }
+      applyPair(D, c, p,
+                (updated[0] - p.tangentImpulse[0]) * c.tangent[0] +
+                    (updated[1] - p.tangentImpulse[1]) * c.tangent[1]);
+      p.tangentImpulse = updated;
+    }
+  }
+}
+
+void restituteMultibodyContacts(Data& D, Real threshold) {
+  for (MultibodyContact& c : D.multibodyContacts) {
+    if (c.restitution == 0) continue;
+    for (int k = 0; k < c.pointCount; ++k) {
+      MultibodyPoint& p = c.points[std::size_t(k)];
+      if (p.relativeVelocity > -threshold || p.maxNormalImpulse == 0) continue;
+      const Real vn = relativeVelocity(D, c, p).dot(c.normal);
+      const Real accumulated = p.normalImpulse;
+      const Real updated =
+          std::max(accumulated - p.normalMass * (vn + c.restitution * p.relativeVelocity), Real(0));
+      p.normalImpulse = updated;
+      p.maxNormalImpulse = std::max(p.maxNormalImpulse, updated - accumulated);
+      applyPair(D, c, p, (updated - accumulated) * c.normal);
+    }
+  }
+}
+
+void storeMultibodyContacts(Data& D) {
+  for (const MultibodyContact& c : D.multibodyContacts) {
+    ContactInfo& info = D.contacts[std::size_t(c.contactIndex)];
+    ContactExtra& extra = D.extras[std::size_t(c.contactIndex)];
+    extra.approach = 0;
+    for (int k = 0; k < c.pointCount; ++k) {
+      const MultibodyPoint& p = c.points[std::size_t(k)];
+      if (p.maxNormalImpulse > 0) extra.touching = true;
+      extra.approach = std::max(extra.approach, -p.relativeVelocity);
+      info.normalImpulses[std::size_t(k)] = p.normalImpulse;
+      extra.tangentImpulse[std::size_t(k)] =
+          p.tangentImpulse[0] * c.tangent[0] + p.tangentImpulse[1] * c.tangent[1];
+    }
+    extra.angularImpulse = Vec3::Zero();
+  }
+}
+
+}  // namespace inertia::detail

@@ -1,0 +1,31 @@
+// Internal: the contacts that touch a driven body (multibody.h), a solver stage beside the
+// coloured contacts and joints (solver_stages.h). Their rows are the contacts' (a normal row per
+// point with the same soft or Baumgarte bias, two friction rows clamped to Coulomb's disc,
+// restitution after the substeps, warm starting), but a side on a driven body answers through
+// its group's response: its velocity is the point's, its effective mass comes from
+// W = J M^-1 J^T, and its impulses change every member's velocity. Every link of a tree shares
+// the reduced coordinates, so these rows run in sequence, in contact order, after each pass's
+// colours: the same at any thread count. Rolling and spinning friction are not applied to them.
+#pragma once
+
+#include "rigid_body_data.h"
+#include "step_workers.h"
+
+namespace inertia::detail {
+
+/// This step's driven contacts (RigidBodyData::multibodyContacts already lists them): each
+/// group's beginStep, the points, their effective masses and last step's impulses.
+void prepareMultibodyContacts(RigidBodyData& D, const DynamicsSettings& s, const Softness& soft,
+                              const Softness& staticSoft);
+/// The groups' substep velocity and position updates (the groups in parallel).
+void integrateMultibodyVelocities(RigidBodyData& D, Real h, StepWorkers& workers);
+void integrateMultibodyPositions(RigidBodyData& D, Real h, StepWorkers& workers);
+/// Applies the accumulated impulses again (a substep's warm start).
+void warmStartMultibodyContacts(RigidBodyData& D);
+/// One pass over the rows.
+void solveMultibodyContacts(RigidBodyData& D, const BiasMode& mode);
+/// Newton's impact law after the substeps, then the impulses into the contacts.
+void restituteMultibodyContacts(RigidBodyData& D, Real threshold);
+void storeMultibodyContacts(RigidBodyData& D);
+
+}  // namespace inertia::detail

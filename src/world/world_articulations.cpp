@@ -1,0 +1,133 @@
+// The World's articulations: each link a driven body of the rigid bodies (dynamics/multibody.h)
+// answered by the articulation's LinkResponse, and the link bodies moved after each step.
+#include <string>
+
+#include "inertia/articulation/link_response.h"
+#include "inertia/core/error.h"
+#include "inertia/core/math.h"
+#include "inertia/world/world.h"
+
+namespace inertia {
+
+namespace {
+
+void checkSettings(const WorldArticulationSettings& s) {
+  const std::string what = "World::createArticulation '" + s.name + "': ";
+  require(s.model.linkCount() > 0, what + "the model has no links");
+  require(allFinite(s.base.p) && allFinite(s.base.q) && std::abs(s.base.q.norm() - 1) < Real(1e-3),
+          what + "base must be finite with a unit quaternion");
+  for (std::size_t k = 0; k < s.shapes.size(); ++k) {
+    const LinkShapeSettings& shape = s.shapes[k];
+    require(shape.link >= 0 && shape.link < s.model.linkCount(),
+            what + "shapes[" + std::to_string(k) + "].link " + std::to_string(shape.link) +
+                " is not a link of the model");
+    require(shape.shape.type() != ShapeType::Plane && shape.shape.type() != ShapeType::HeightField,
+            what + "shapes[" + std::to_string(k) + "]: planes and height fields cannot be links");
+  }
+}
+
+}  // namespace
+
+ArticulationId World::createArticulation(const WorldArticulationSettings& s) {
+  checkSettings(s);
+  auto art = std::make_unique<articulation::Articulation<Real>>(s.model, s.solver);
+  if (s.q.size() > 0 || s.qd.size() > 0)
+    art->setState(s.q.size() > 0 ? s.q : art->q(),
+                  s.qd.size() > 0 ? s.qd : articulation::VectorX<Real>(art->qd()));
+  auto response = std::make_unique<articulation::LinkResponse>(*art, s.base, settings_.gravity);
+  std::vector<BodyId> links;
+  for (int i = 0; i < s.model.linkCount(); ++i) {
+    const articulation::Link<Real>& link = s.model.link(i);
+    const Transform pose = response->linkPose(i);
+    BodySettings body;
+    body.type = BodyType::Dynamic;
+    body.position = pose.p;
+    body.orientation = pose.q;
+    body.mass = link.mass;
+    body.name = s.name + "/" + link.name;
+    links.push_back(bodies_.createBody(body));
+  }
+  for (const LinkShapeSettings& shape : s.shapes)
+    bodies_.addShape(links[std::size_t(shape.link)], shape.shape, shape.material, shape.pose);
+  std::size_t index = 0;
+  while (index < articulationSlots_.size() && articulationSlots_[index].articulation) ++index;
+  if (index == articulationSlots_.size()) articulationSlots_.emplace_back();
+  ArticulationSlot& slot = articulationSlots_[index];
+  slot.group = bodies_.addMultibody(response.get(), links);
+  slot.articulation = std::move(art);
+  slot.response = std::move(response);
+  slot.links = std::move(links);
+  slot.name = s.name;
+  followArticulation(slot);
+  return {std::uint32_t(index), slot.generation};
+}
+
+void World::destroyArticulation(ArticulationId id) {
+  ArticulationSlot& slot = articulationSlot(id);
+  bodies_.removeMultibody(slot.group);
+  for (BodyId link : slot.links) bodies_.destroyBody(link);
+  slot.articulation.reset();
+  slot.response.reset();
+  slot.links.clear();
+  slot.name.clear();
+  ++slot.generation;
+}
+
+bool World::isValid(ArticulationId id) const {
+  return !id.isNull() && id.index < articulationSlots_.size() &&
+         articulationSlots_[id.index].articulation &&
+         articulationSlots_[id.index].generation == id.generation;
+}
+
+World::ArticulationSlot& World::articulationSlot(ArticulationId id) {
+  require(isValid(id), "World: invalid articulation id (index " + std::to_string(id.index) + ")");
+  return articulationSlots_[id.index];
+}
+
+const World::ArticulationSlot& World::articulationSlot(ArticulationId id) const {
+  require(isValid(id), "World: invalid articulation id (index " + std::to_string(id.index) + ")");
+  return articulationSlots_[id.index];
+}
+
+articulation::Articulation<Real>& World::articulation(ArticulationId id) {
+  return *articulationSlot(id).articulation;
+}
+
+const articulation::Articulation<Real>& World::articulation(ArticulationId id) const {
+  return *articulationSlot(id).articulation;
+}
+
+void World::syncArticulation(ArticulationId id) {
+  ArticulationSlot& slot = articulationSlot(id);
+  slot.response->updatePoses();
+  followArticulation(slot);
+}
+
+std::string_view World::articulationName(ArticulationId id) const {
+  return articulationSlot(id).name;
+}
+
+BodyId World::linkBody(ArticulationId id, int link) const {
+  const ArticulationSlot& slot = articulationSlot(id);
+  require(link >= 0 && std::size_t(link) < slot.links.size(),
+          "World::linkBody: no link " + std::to_string(link));
+  return slot.links[std::size_t(link)];
+}
+
+std::vector<ArticulationId> World::articulations() const {
+  std::vector<ArticulationId> ids;
+  for (std::uint32_t i = 0; i < articulationSlots_.size(); ++i)
+    if (articulationSlots_[i].articulation) ids.push_back({i, articulationSlots_[i].generation});
+  return ids;
+}
+
+// The link bodies take the links' poses and velocities.
+void World::followArticulation(const ArticulationSlot& slot) {
+  for (std::size_t i = 0; i < slot.links.size(); ++i) {
+    Vec3 v, w;
+    slot.response->linkVelocity(int(i), v, w);
+    bodies_.setDrivenState(slot.links[i], slot.response->linkPose(int(i)), v, w);
+  }
+}
+
+}  // namespace inertia
