@@ -43,6 +43,26 @@ TEST(DeformablesSection, ClothAsInTheDesignDocument) {
   EXPECT_EQ(world->deformable(world->deformables()[0]).fields().size(), 2u);
 }
 
+// "attach" holds a vertex to a named body's point, both ways, in the instantiated world.
+TEST(DeformablesSection, AttachmentsToBodies) {
+  const Scene s = parseScene(R"({
+    "bodies": [ { "name": "weight", "type": "dynamic", "position": [0, -1, 0],
+                  "shapes": [ { "type": "sphere", "radius": 0.1 } ] } ],
+    "deformables": [ { "type": "rope", "from": [0, 0, 0], "to": [0, -1, 0], "segments": 4,
+                       "pinned": [0],
+                       "attach": [ { "vertex": 4, "body": "weight", "anchor": [0, 0.1, 0],
+                                     "stiffness": 3000, "damping": 2 } ] } ] })",
+                             "test.json");
+  ASSERT_EQ(s.deformables[0].attachments.size(), 1u);
+  EXPECT_EQ(s.deformables[0].attachments[0].vertex, 4u);
+  EXPECT_FLOAT_EQ(s.deformables[0].attachments[0].stiffness, 3000);
+  auto world = instantiate(s);
+  const Deformable& d = world->deformable(world->deformables()[0]);
+  ASSERT_EQ(d.attachments().size(), 1u);
+  EXPECT_EQ(d.attachments()[0].body, world->rigidBodies().bodies()[0]);
+  EXPECT_TRUE(d.attachments()[0].anchor.isApprox(Vec3(0, Real(0.1), 0)));
+}
+
 TEST(DeformablesSection, RopeSoftBodiesAndMesh) {
   const Scene s = parse(R"(
     { "type": "rope", "from": [0, 0, 0], "to": [0, -2, 0], "segments": 8, "pinned": [0], "integrator": "rk4" },
@@ -76,6 +96,10 @@ TEST(DeformablesSection, ErrorsNameTheJsonPointer) {
             "/deformables/0/self_collision");
   EXPECT_EQ(pointerOf(R"({"type": "cloth", "attach": [{"vertex": 0}]})"),
             "/deformables/0/attach/0");
+  EXPECT_EQ(pointerOf(R"({"type": "cloth", "attach": [{"vertex": 0, "body": "pole"}]})"),
+            "/deformables/0/attach/0/body");
+  EXPECT_EQ(pointerOf(R"({"type": "cloth", "resolution": [2, 2], "attach": [{"vertex": 9}]})"),
+            "/deformables/0/attach/0/vertex");
   EXPECT_EQ(pointerOf(R"({"type": "rope", "from": [0, 0, 0], "to": [0, 0, 0]})"), "/deformables/0");
   EXPECT_EQ(pointerOf(R"({"type": "soft_body", "shape": {"type": "cone"}})"),
             "/deformables/0/shape/type");

@@ -161,6 +161,8 @@ class World {
     std::uint32_t generation = 1;
   };
   void stepDeformables(Real dt, bool& obstaclesGathered);
+  void moveAttachments(Deformable& d, Real dt);
+  bool pushBodies(const Deformable& d);
   WorldSettings settings_;
   // The world's threads: never more than settings.threads, so that results can be checked
   // across thread counts.
@@ -173,6 +175,7 @@ class World {
   std::int64_t steps_ = 0;
   PhaseTimes phases_;
   std::vector<MovingObstacle> bodyObstacles_;  // scratch of step(), reused
+  std::vector<BodyId> obstacleBodies_;         // the body of each of bodyObstacles_
 };
 
 }  // namespace inertia
