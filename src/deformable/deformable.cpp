@@ -1,5 +1,6 @@
 #include "inertia/deformable/deformable.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -45,6 +46,13 @@ Deformable::Deformable(const DeformableSettings& settings, const MassSpringModel
   springs_ = model.springs;
   broken_.assign(springs_.size(), 0);
   triangles_ = model.triangles;
+  for (const auto& t : triangles_)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = t[std::size_t(k)], b = t[std::size_t((k + 1) % 3)];
+      edges_.push_back({std::min(a, b), std::max(a, b)});
+    }
+  std::sort(edges_.begin(), edges_.end());
+  edges_.erase(std::unique(edges_.begin(), edges_.end()), edges_.end());
 }
 
 Deformable::~Deformable() = default;
@@ -52,9 +60,11 @@ Deformable::Deformable(Deformable&&) noexcept = default;
 Deformable& Deformable::operator=(Deformable&&) noexcept = default;
 
 namespace {
+// The message is built only on failure: position() and velocity() are called per vertex.
 void checkVertex(std::size_t vertex, std::size_t n, const char* who) {
-  require(vertex < n, std::string("Deformable::") + who + ": vertex " + std::to_string(vertex) +
-                          " does not exist (" + std::to_string(n) + " vertices)");
+  if (vertex < n) return;
+  require(false, std::string("Deformable::") + who + ": vertex " + std::to_string(vertex) +
+                     " does not exist (" + std::to_string(n) + " vertices)");
 }
 }  // namespace
 
@@ -170,6 +180,10 @@ void Deformable::step(Real h) {
   time_ += double(h);
   moveAttachments(h);
   collide(h);
+  if (settings_.selfCollision) {
+    Deformable* self = this;
+    collideDeformables({&self, 1}, h);
+  }
   tear();
 }
 

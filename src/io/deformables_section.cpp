@@ -172,10 +172,7 @@ void readSettings(const Node& n, DeformableSettings& s) {
     }
     s.integrator = *method;
   }
-  // Keys of DESIGN.md whose features are not built yet: refused rather than ignored.
-  if (n.has("self_collision") && n.at("self_collision").boolean())
-    n.at("self_collision")
-        .fail("self-collision of deformables is not implemented yet in this version of Inertia");
+  if (n.has("self_collision")) s.selfCollision = n.at("self_collision").boolean();
 }
 
 // "attach": [{"vertex", "body", "anchor" (in the body's frame), "stiffness", "damping"}].

@@ -166,6 +166,12 @@ void World::stepDeformables(Real dt, bool& obstaclesGathered) {
     d.step(dt);
     if (pushBodies(d)) obstaclesGathered = false;  // velocities changed: gather again
   }
+  // Deformables with self-collision also collide with each other, over the step just taken.
+  colliding_.clear();
+  for (DeformableSlot& slot : deformableSlots_)
+    if (slot.deformable && slot.deformable->settings().selfCollision)
+      colliding_.push_back(slot.deformable.get());
+  if (colliding_.size() >= 2) Deformable::collideDeformables(colliding_, dt);
   phases_.deformables +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }

@@ -26,13 +26,14 @@ TEST(DeformablesSection, ClothAsInTheDesignDocument) {
       R"({ "name": "flag", "type": "cloth", "position": [0, 3, 0], "orientation": [1, 0, 0, 0],
       "size": [2, 1], "resolution": [40, 20], "mass": 0.5, "thickness": 0.01,
       "stiffness": { "stretch": 5000, "shear": 500, "bend": 5 }, "damping": 0.01,
-      "integrator": "implicit_euler", "self_collision": false, "friction": 0.3,
+      "integrator": "implicit_euler", "self_collision": true, "friction": 0.3,
       "pinned": [0, 20], "attach": [], "tear_strain": 0,
       "fields": [ { "type": "gravity" }, { "type": "wind", "velocity": [3, 0, 0], "k": 0.01 } ] })");
   ASSERT_EQ(s.deformables.size(), 1u);
   const DeformableDesc& d = s.deformables[0];
   EXPECT_EQ(d.settings.name, "flag");
   EXPECT_EQ(d.settings.integrator, ode::Method::BackwardEuler);
+  EXPECT_TRUE(d.settings.selfCollision);
   EXPECT_EQ(d.model.vertexCount(), 41u * 21u);
   EXPECT_FLOAT_EQ(d.model.masses[0] * Real(41 * 21), Real(0.5));
   EXPECT_EQ(d.model.pinned, (std::vector<std::uint32_t>{0, 20}));
@@ -92,7 +93,7 @@ TEST(DeformablesSection, ErrorsNameTheJsonPointer) {
             "/deformables/0/stiffness/stretch");
   EXPECT_EQ(pointerOf(R"({"type": "cloth", "integrator": "leapfrog"})"),
             "/deformables/0/integrator");
-  EXPECT_EQ(pointerOf(R"({"type": "cloth", "self_collision": true})"),
+  EXPECT_EQ(pointerOf(R"({"type": "cloth", "self_collision": 1})"),
             "/deformables/0/self_collision");
   EXPECT_EQ(pointerOf(R"({"type": "cloth", "attach": [{"vertex": 0}]})"),
             "/deformables/0/attach/0");

@@ -38,6 +38,9 @@ struct DeformableSettings {
   double solverTolerance = 1e-6;
   int solverMaxIterations = 1000;
   int newtonMaxIterations = 20;
+  /// Vertex-triangle and edge-edge collisions within the deformable (Bridson et al. 2002); in
+  /// a World, also with the other deformables that have it.
+  bool selfCollision = false;
   /// In a World: every body's shapes are obstacles too; dynamic bodies feel the contacts.
   bool collideWithBodies = true;
 };
@@ -153,6 +156,12 @@ class Deformable {
   /// implicit solve that fails to give finite values leaves the velocities as they were.
   void step(Real h);
 
+  /// The collision stage of self-collision run over several deformables' last steps at once
+  /// (each stepped by h from where its own step started): their vertices and triangles collide
+  /// with each other's as with their own. A World calls it for its deformables with
+  /// selfCollision after stepping them.
+  static void collideDeformables(std::span<Deformable* const> deformables, Real h);
+
   /// The springs that broke during the last step.
   std::span<const TearEvent> tearEvents() const { return tearEvents_; }
   /// The last implicit step's solve.
@@ -180,6 +189,7 @@ class Deformable {
   std::vector<Spring> springs_;
   std::vector<std::uint8_t> broken_;
   std::vector<std::array<std::uint32_t, 3>> triangles_;
+  std::vector<std::array<std::uint32_t, 2>> edges_;  // the triangles' edges, each once
   std::vector<ForceField> fields_;
   std::vector<Obstacle> obstacles_;
   std::vector<MovingObstacle> moving_;

@@ -176,6 +176,7 @@ class World {
   PhaseTimes phases_;
   std::vector<MovingObstacle> bodyObstacles_;  // scratch of step(), reused
   std::vector<BodyId> obstacleBodies_;         // the body of each of bodyObstacles_
+  std::vector<Deformable*> colliding_;         // deformables with self-collision, per step
 };
 
 }  // namespace inertia
