@@ -89,7 +89,8 @@ const Eigen::VectorXd& ImplicitEuler::gradient(const Eigen::VectorXd& v) {
 void ImplicitEuler::assemble(const Eigen::VectorXd& v) {
   const double h = h_;
   x_ = x0_ + h * v;
-  inverseDiagonal_ = massDiagonal_ + anchorDiagonal_;
+  diagonal_ = massDiagonal_ + anchorDiagonal_;
+  inverseDiagonal_ = diagonal_;
   for (std::size_t k = 0; k < in_->springs.size(); ++k) {
     if (in_->broken[k]) continue;
     const Spring& s = in_->springs[k];
@@ -103,7 +104,7 @@ void ImplicitEuler::assemble(const Eigen::VectorXd& v) {
 }
 
 void ImplicitEuler::apply(const Eigen::VectorXd& w, Eigen::VectorXd& out) const {
-  out = (massDiagonal_ + anchorDiagonal_).cwiseProduct(w);
+  out = diagonal_.cwiseProduct(w);
   for (std::size_t k = 0; k < in_->springs.size(); ++k) {
     if (in_->broken[k]) continue;
     const Spring& s = in_->springs[k];

@@ -103,6 +103,7 @@ class ImplicitEuler {
   std::vector<Eigen::Vector3d> u0_;      // each spring's direction at the start (0: collapsed)
   std::vector<Eigen::Matrix3d> blocks_;  // h^2 K~ + h c u0 u0^T per spring, at the last iterate
   Eigen::VectorXd anchorDiagonal_;       // h^2 k + h c of the attachments, per component
+  Eigen::VectorXd diagonal_;             // M^ + the attachments' part: H's diagonal before springs
   Eigen::VectorXd x0_, v0_, v_, x_, f0_, massDiagonal_, inverseDiagonal_, g_, p_, trial_;
   PcgBuffers pcg_;
 };
