@@ -1,5 +1,6 @@
 #include "inertia/deformable/deformable.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -25,6 +26,7 @@ void validate(const DeformableSettings& s) {
   require(std::isfinite(s.solverTolerance) && s.solverTolerance > 0 && s.solverTolerance < 1,
           "DeformableSettings::solverTolerance must be in (0, 1)");
   require(s.solverMaxIterations >= 1, "DeformableSettings::solverMaxIterations must be >= 1");
+  require(s.newtonMaxIterations >= 1, "DeformableSettings::newtonMaxIterations must be >= 1");
 }
 
 Deformable::Deformable(const DeformableSettings& settings, const MassSpringModel& model)
@@ -44,6 +46,13 @@ Deformable::Deformable(const DeformableSettings& settings, const MassSpringModel
   springs_ = model.springs;
   broken_.assign(springs_.size(), 0);
   triangles_ = model.triangles;
+  for (const auto& t : triangles_)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = t[std::size_t(k)], b = t[std::size_t((k + 1) % 3)];
+      edges_.push_back({std::min(a, b), std::max(a, b)});
+    }
+  std::sort(edges_.begin(), edges_.end());
+  edges_.erase(std::unique(edges_.begin(), edges_.end()), edges_.end());
 }
 
 Deformable::~Deformable() = default;
@@ -74,9 +83,11 @@ Deformable& Deformable::operator=(const Deformable& other) {
 }
 
 namespace {
+// The message is built only on failure: position() and velocity() are called per vertex.
 void checkVertex(std::size_t vertex, std::size_t n, const char* who) {
-  require(vertex < n, std::string("Deformable::") + who + ": vertex " + std::to_string(vertex) +
-                          " does not exist (" + std::to_string(n) + " vertices)");
+  if (vertex < n) return;
+  require(false, std::string("Deformable::") + who + ": vertex " + std::to_string(vertex) +
+                     " does not exist (" + std::to_string(n) + " vertices)");
 }
 }  // namespace
 
@@ -152,17 +163,50 @@ void Deformable::setMovingObstacles(std::span<const MovingObstacle> obstacles) {
     bounds.push_back(worldBounds(o.collider->shape(), o.pose));
 }
 
+std::size_t Deformable::addAttachment(const Attachment& a) {
+  checkVertex(a.vertex, vertexCount(), "addAttachment");
+  require(a.anchor.allFinite(), "Deformable::addAttachment: the anchor must be finite (m)");
+  require(std::isfinite(a.stiffness) && a.stiffness > 0,
+          "Deformable::addAttachment: stiffness must be finite and > 0 (N/m)");
+  require(std::isfinite(a.damping) && a.damping >= 0,
+          "Deformable::addAttachment: damping must be finite and >= 0 (N s/m)");
+  attachments_.push_back(a);
+  attachmentPositions_.push_back(position(a.vertex));
+  attachmentVelocities_.push_back(Vec3::Zero());
+  attachmentImpulses_.push_back(Vec3::Zero());
+  attachmentMoved_.push_back(0);
+  return attachments_.size() - 1;
+}
+
+void Deformable::setAttachmentMotion(std::size_t i, const Vec3& position, const Vec3& velocity) {
+  require(i < attachments_.size(),
+          "Deformable::setAttachmentMotion: no attachment " + std::to_string(i));
+  require(position.allFinite() && velocity.allFinite(),
+          "Deformable::setAttachmentMotion: position and velocity must be finite");
+  attachmentPositions_[i] = position;
+  attachmentVelocities_[i] = velocity;
+  attachmentMoved_[i] = 1;
+}
+
 // The step as a list of stages (each in its own file).
 void Deformable::step(Real h) {
   require(std::isfinite(h) && h > 0, "Deformable::step: h must be finite and > 0 (s)");
   tearEvents_.clear();
+  obstacleImpulses_.clear();
   scratch_->start = x_;
-  if (settings_.integrator == ode::Method::BackwardEuler)
+  if (settings_.integrator == ode::Method::BackwardEuler) {
+    holdBodyContacts(h);
     integrateImplicit(h);
-  else
+    pushHeldContacts();
+  } else
     integrateExplicit(h);
   time_ += double(h);
-  collide();
+  moveAttachments(h);
+  collide(h);
+  if (settings_.selfCollision) {
+    Deformable* self = this;
+    collideDeformables({&self, 1}, h);
+  }
   tear();
 }
 

@@ -1,5 +1,8 @@
 #include "deformable/implicit_euler.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "deformable/spring_forces.h"
 
 namespace inertia::detail {
@@ -11,91 +14,237 @@ Eigen::Ref<const Eigen::Vector3d> seg(const Eigen::VectorXd& v, T i) {
   return v.segment<3>(3 * Eigen::Index(i));
 }
 
-}  // namespace
-
-// The spring blocks and the diagonal: A = M + h k_field - sum over springs of
-// (h dF/dv + h^2 dF/dx), each spring's block entering at (a, a), (b, b) with + and at (a, b),
-// (b, a) with -.
-void ImplicitEuler::assemble(const ImplicitEulerInput& in, double h) {
-  const std::size_t n = in.masses.size();
-  stiffness_.resize(in.springs.size());
-  blocks_.resize(in.springs.size());
-  massDiagonal_.resize(3 * Eigen::Index(n));
-  for (std::size_t i = 0; i < n; ++i)
-    massDiagonal_.segment<3>(3 * Eigen::Index(i))
-        .setConstant(double(in.masses[i]) + h * double(in.fieldDamping[i]));
-  Eigen::VectorXd& diagonal = inverseDiagonal_;
-  diagonal = massDiagonal_;
-  for (std::size_t k = 0; k < in.springs.size(); ++k) {
-    if (in.broken[k]) continue;
-    const Spring& s = in.springs[k];
-    const SpringJacobian j = springJacobian(s, seg(x_, s.a), seg(x_, s.b));
-    stiffness_[k] = j.dx;
-    blocks_[k] = -(h * j.dv + h * h * j.dx);
-    diagonal.segment<3>(3 * Eigen::Index(s.a)) += blocks_[k].diagonal();
-    diagonal.segment<3>(3 * Eigen::Index(s.b)) += blocks_[k].diagonal();
-  }
-  inverseDiagonal_ = diagonal.cwiseInverse();
+SurrogateSpring surrogate(const Spring& s, const Eigen::Vector3d& u0) {
+  return {double(s.stiffness), double(s.restLength), u0};
 }
 
-// b = h (F + h dF/dx v) at the step's start, F the springs' and the fields' forces.
-void ImplicitEuler::rightHandSide(const ImplicitEulerInput& in, double h) {
+// Armijo's sufficient decrease (Nocedal and Wright, 3.1) and the line search's floor.
+constexpr double kArmijo = 1e-4;
+constexpr double kSmallestStep = 1e-8;
+
+}  // namespace
+
+// The step's constants: x0, v0, each spring's start direction u0, M^ = M + h k_drag and the
+// fields' other forces f0 = m a - (-k v0) at the start.
+void ImplicitEuler::start(const ImplicitEulerInput& in, double h, std::span<const Real> x,
+                          std::span<const Real> v) {
+  in_ = &in;
+  h_ = h;
   const std::size_t n = in.masses.size();
-  f_.setZero(3 * Eigen::Index(n));
-  addSpringForces<double>(in.springs, in.broken, x_.data(), v_.data(), f_.data());
-  for (std::size_t i = 0; i < 3 * n; ++i)
-    f_[Eigen::Index(i)] += double(in.masses[i / 3]) * double(in.fieldAcceleration[i]);
-  kv_.setZero(3 * Eigen::Index(n));
-  for (std::size_t k = 0; k < in.springs.size(); ++k) {
-    if (in.broken[k]) continue;
-    const Spring& s = in.springs[k];
-    const Eigen::Vector3d y = stiffness_[k] * (seg(v_, s.a) - seg(v_, s.b));
-    kv_.segment<3>(3 * Eigen::Index(s.a)) += y;
-    kv_.segment<3>(3 * Eigen::Index(s.b)) -= y;
+  const Eigen::Index n3 = Eigen::Index(x.size());
+  x0_ = Eigen::Map<const VecX>(x.data(), n3).cast<double>();
+  v0_ = Eigen::Map<const VecX>(v.data(), n3).cast<double>();
+  massDiagonal_.resize(n3);
+  f0_.resize(n3);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double m = double(in.masses[i]), kd = double(in.fieldDamping[i]);
+    for (std::size_t c = 0; c < 3; ++c) {
+      const Eigen::Index j = Eigen::Index(3 * i + c);
+      massDiagonal_[j] = m + h * kd;
+      f0_[j] = m * double(in.fieldAcceleration[3 * i + c]) + kd * v0_[j];
+    }
   }
-  b_ = h * (f_ + h * kv_);
+  anchorDiagonal_.setZero(n3);
+  for (const AttachmentTerm& a : in.attachments)
+    if (!in.pinned[a.vertex])
+      anchorDiagonal_.segment<3>(3 * Eigen::Index(a.vertex)).array() += h * h * a.k + h * a.c;
+  u0_.resize(in.springs.size());
+  blocks_.resize(in.springs.size());
+  for (std::size_t k = 0; k < in.springs.size(); ++k) {
+    const Spring& s = in.springs[k];
+    const Eigen::Vector3d d = seg(x0_, s.a) - seg(x0_, s.b);
+    const double l = d.norm();
+    u0_[k] = l > 0 ? Eigen::Vector3d(d / l) : Eigen::Vector3d::Zero();
+  }
+}
+
+// G = M^ (v - v0) - h f0 - h F~(x0 + h v) + h sum c u0 u0^T v_ab, pinned components zeroed.
+const Eigen::VectorXd& ImplicitEuler::gradient(const Eigen::VectorXd& v) {
+  const double h = h_;
+  x_ = x0_ + h * v;
+  g_ = massDiagonal_.cwiseProduct(v - v0_) - h * f0_;
+  for (std::size_t k = 0; k < in_->springs.size(); ++k) {
+    if (in_->broken[k]) continue;
+    const Spring& s = in_->springs[k];
+    const Eigen::Vector3d& u0 = u0_[k];
+    const Eigen::Vector3d f = surrogate(s, u0).force(seg(x_, s.a) - seg(x_, s.b)) -
+                              double(s.damping) * u0 * u0.dot(seg(v, s.a) - seg(v, s.b));
+    g_.segment<3>(3 * Eigen::Index(s.a)) -= h * f;
+    g_.segment<3>(3 * Eigen::Index(s.b)) += h * f;
+  }
+  for (const AttachmentTerm& a : in_->attachments)
+    g_.segment<3>(3 * Eigen::Index(a.vertex)) +=
+        h * (a.k * (seg(x_, a.vertex) - a.target) + a.c * (seg(v, a.vertex) - a.velocity));
+  // What holds a contact: M (v - v0) = h F + lambda n there, so G = lambda n.
+  for (std::size_t k = 0; k < in_->contacts.size(); ++k) {
+    ContactConstraint& c = in_->contacts[k];
+    c.impulse = held_[k] ? c.normal.dot(seg(g_, c.vertex)) : 0.0;
+  }
+  filter(g_);
+  return g_;
+}
+
+// Psi's Hessian H = M^ + h^2 K~(x) + h C at the current iterate: each spring's block enters at
+// (a, a), (b, b) with + and at (a, b), (b, a) with -; its diagonal is the Jacobi preconditioner.
+void ImplicitEuler::assemble(const Eigen::VectorXd& v) {
+  const double h = h_;
+  x_ = x0_ + h * v;
+  diagonal_ = massDiagonal_ + anchorDiagonal_;
+  inverseDiagonal_ = diagonal_;
+  for (std::size_t k = 0; k < in_->springs.size(); ++k) {
+    if (in_->broken[k]) continue;
+    const Spring& s = in_->springs[k];
+    const Eigen::Vector3d& u0 = u0_[k];
+    blocks_[k] = h * h * surrogate(s, u0).stiffness(seg(x_, s.a) - seg(x_, s.b)) +
+                 h * double(s.damping) * u0 * u0.transpose();
+    inverseDiagonal_.segment<3>(3 * Eigen::Index(s.a)) += blocks_[k].diagonal();
+    inverseDiagonal_.segment<3>(3 * Eigen::Index(s.b)) += blocks_[k].diagonal();
+  }
+  inverseDiagonal_ = inverseDiagonal_.cwiseInverse();
 }
 
 void ImplicitEuler::apply(const Eigen::VectorXd& w, Eigen::VectorXd& out) const {
-  out = massDiagonal_.cwiseProduct(w);
-  for (std::size_t k = 0; k < springs_.size(); ++k) {
-    if (broken_[k]) continue;
-    const Spring& s = springs_[k];
+  out = diagonal_.cwiseProduct(w);
+  for (std::size_t k = 0; k < in_->springs.size(); ++k) {
+    if (in_->broken[k]) continue;
+    const Spring& s = in_->springs[k];
     const Eigen::Vector3d y = blocks_[k] * (seg(w, s.a) - seg(w, s.b));
     out.segment<3>(3 * Eigen::Index(s.a)) += y;
     out.segment<3>(3 * Eigen::Index(s.b)) -= y;
   }
 }
 
-// Baraff-Witkin's filter with S_i = 0 for a pinned vertex (all three directions constrained).
-void ImplicitEuler::filter(Eigen::VectorXd& w) const {
-  for (std::size_t i = 0; i < pinned_.size(); ++i)
-    if (pinned_[i]) w.segment<3>(3 * Eigen::Index(i)).setZero();
+void ImplicitEuler::filterPinned(Eigen::VectorXd& w) const {
+  for (std::size_t i = 0; i < in_->pinned.size(); ++i)
+    if (in_->pinned[i]) w.segment<3>(3 * Eigen::Index(i)).setZero();
 }
 
-ode::LinearSolveReport ImplicitEuler::step(const ImplicitEulerInput& in, Real hr, std::span<Real> x,
-                                           std::span<Real> v) {
-  const double h = double(hr);
+// Baraff-Witkin's filter with S_i = 0 for a pinned vertex (all three directions constrained).
+// and S_i = I - n n^T for a vertex held against a body along n.
+void ImplicitEuler::filter(Eigen::VectorXd& w) const {
+  for (std::size_t i = 0; i < in_->pinned.size(); ++i)
+    if (in_->pinned[i]) w.segment<3>(3 * Eigen::Index(i)).setZero();
+  for (std::size_t k = 0; k < in_->contacts.size(); ++k) {
+    if (!held_[k]) continue;
+    const ContactConstraint& c = in_->contacts[k];
+    auto wi = w.segment<3>(3 * Eigen::Index(c.vertex));
+    wi -= c.normal * c.normal.dot(wi);
+  }
+}
+
+// Psi(v + alpha p) - Psi(v), term by term from differences (no cancellation of large values).
+double ImplicitEuler::psiChange(const Eigen::VectorXd& p, double alpha) const {
+  const double h = h_;
+  double change = alpha * p.dot(massDiagonal_.cwiseProduct(v_ - v0_)) +
+                  0.5 * alpha * alpha * p.dot(massDiagonal_.cwiseProduct(p)) -
+                  alpha * h * f0_.dot(p);
+  for (std::size_t k = 0; k < in_->springs.size(); ++k) {
+    if (in_->broken[k]) continue;
+    const Spring& s = in_->springs[k];
+    const Eigen::Vector3d pab = seg(p, s.a) - seg(p, s.b);
+    const double w = u0_[k].dot(seg(v_, s.a) - seg(v_, s.b)), q = u0_[k].dot(pab);
+    change += 0.5 * h * double(s.damping) * alpha * q * (2 * w + alpha * q);
+    change += surrogate(s, u0_[k]).energyChange(seg(x_, s.a) - seg(x_, s.b), alpha * h * pab);
+  }
+  for (const AttachmentTerm& a : in_->attachments) {
+    const Eigen::Vector3d pa = seg(p, a.vertex);
+    change +=
+        alpha * h *
+            pa.dot(a.k * (seg(x_, a.vertex) - a.target) + a.c * (seg(v_, a.vertex) - a.velocity)) +
+        0.5 * alpha * alpha * (h * h * a.k + h * a.c) * pa.squaredNorm();
+  }
+  return change;
+}
+
+// Backtracking from the full Newton step until Armijo's condition holds; 0 when none does
+// (the iterate is as good as rounding lets it be).
+double ImplicitEuler::lineSearch(const Eigen::VectorXd& p) {
+  const double slope = g_.dot(p);
+  if (!(slope < 0)) return 0;
+  for (double alpha = 1; alpha >= kSmallestStep; alpha *= 0.5)
+    if (psiChange(p, alpha) <= kArmijo * alpha * slope) return alpha;
+  return 0;
+}
+
+// Newton's method on Psi from v_, with the contacts held as they are; false when it failed to
+// give finite values.
+bool ImplicitEuler::newton(const ImplicitEulerInput& in, ImplicitSolveReport& report) {
+  const Eigen::Index n3 = v_.size();
+  gradient(v_);
+  Eigen::VectorXd scale = massDiagonal_.cwiseProduct(v0_) + h_ * f0_;
+  filter(scale);
+  const double reference = scale.norm() + g_.norm();
+  const double target = in.tolerance * reference;
+  report.converged = false;
+  double previous = g_.norm();
+  for (int iteration = 0; iteration < in.maxNewtonIterations; ++iteration) {
+    const double norm = g_.norm(), ratio = iteration == 0 ? 1.0 : norm / previous;
+    previous = norm;
+    if (norm <= target) {
+      report.converged = true;
+      break;
+    }
+    assemble(v_);
+    // Inexact Newton (Eisenstat and Walker 1996, choice 2): loose while far, tighter as the
+    // gradient falls, never finer than the target needs.
+    const double forcing =
+        std::clamp(std::max(0.9 * ratio * ratio, 0.1 * target / norm), in.tolerance, 0.1);
+    const auto applyH = [this](const Eigen::VectorXd& w, Eigen::VectorXd& out) { apply(w, out); };
+    const auto filterS = [this](Eigen::VectorXd& w) { filter(w); };
+    p_.setZero(n3);
+    trial_ = -g_;
+    report.iterations +=
+        modifiedPcg(applyH, filterS, inverseDiagonal_, trial_, p_, forcing, in.maxIterations, pcg_)
+            .iterations;
+    ++report.newtonIterations;
+    if (!p_.allFinite()) return false;
+    x_ = x0_ + h_ * v_;
+    const double alpha = lineSearch(p_);
+    if (alpha == 0) break;
+    v_ += alpha * p_;
+    gradient(v_);
+  }
+  report.error = reference > 0 ? g_.norm() / reference : 0.0;
+  report.energySlack = std::max(0.0, g_.dot(v_));
+  return v_.allFinite();
+}
+
+// A contact whose impulse came out negative would hold the vertex to the body: it is let go
+// (an active set, one pass per solve). True when one was.
+bool ImplicitEuler::releasePullingContacts() {
+  bool released = false;
+  for (std::size_t k = 0; k < in_->contacts.size(); ++k)
+    if (held_[k] && in_->contacts[k].impulse < 0) {
+      held_[k] = 0;
+      in_->contacts[k].impulse = 0;
+      released = true;
+    }
+  return released;
+}
+
+ImplicitSolveReport ImplicitEuler::step(const ImplicitEulerInput& in, Real hr, std::span<Real> x,
+                                        std::span<Real> v) {
   const Eigen::Index n3 = Eigen::Index(x.size());
-  springs_ = in.springs;
-  broken_ = in.broken;
-  pinned_ = in.pinned;
-  x_ = Eigen::Map<const VecX>(x.data(), n3).cast<double>();
-  v_ = Eigen::Map<const VecX>(v.data(), n3).cast<double>();
-  assemble(in, h);
-  rightHandSide(in, h);
-  // Pinned vertices are at rest and stay there: their prescribed velocity change z is zero.
-  dv_.setZero(n3);
-  const auto applyA = [this](const Eigen::VectorXd& w, Eigen::VectorXd& out) { apply(w, out); };
-  const auto filterS = [this](Eigen::VectorXd& w) { filter(w); };
-  ode::LinearSolveReport report =
-      modifiedPcg(applyA, filterS, inverseDiagonal_, b_, dv_, in.tolerance, in.maxIterations, pcg_);
-  if (!dv_.allFinite()) {
+  start(in, double(hr), x, v);
+  held_.assign(in.contacts.size(), 1);
+  ImplicitSolveReport report;
+  v_ = v0_;
+  // Held vertices start at their prescribed normal velocity (the filter keeps it there), pinned
+  // ones at rest.
+  for (const ContactConstraint& c : in.contacts) {
+    auto vi = v_.segment<3>(3 * Eigen::Index(c.vertex));
+    vi += c.normal * (c.normalVelocity - c.normal.dot(vi));
+  }
+  filterPinned(v_);
+  bool finite = newton(in, report);
+  for (int pass = 0; finite && pass < 4 && releasePullingContacts(); ++pass)
+    finite = newton(in, report);
+  if (!finite) {
     report.converged = false;
+    for (ContactConstraint& c : in.contacts) c.impulse = 0;
     return report;
   }
-  v_ += dv_;
-  x_ += h * v_;
+  x_ = x0_ + h_ * v_;
   Eigen::Map<VecX>(v.data(), n3) = v_.cast<Real>();
   Eigen::Map<VecX>(x.data(), n3) = x_.cast<Real>();
   return report;

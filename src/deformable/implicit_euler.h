@@ -1,9 +1,26 @@
-// Baraff and Witkin's implicit step (1998, "Large steps in cloth simulation", section 4):
-// one Newton step of backward Euler, linearised about the state at the start of the step,
-//     (M - h dF/dv - h^2 dF/dx) dv = h (F + h dF/dx v),   v' = v + dv,   x' = x + h v',
-// with the springs' analytic Jacobians, solved matrix-free (3 x 3 blocks per spring) by the
+// Implicit (backward) Euler for mass-spring systems, after Baraff and Witkin (1998, "Large steps
+// in cloth simulation", sections 4 and 5): the springs' analytic Jacobians, the system
+// (M - h dF/dv - h^2 dF/dx) dv = -G solved matrix-free (3 x 3 blocks per spring) by their
 // modified preconditioned conjugate gradients, which keep pinned vertices still.
-// Assembled and solved in double whatever Real is: on stiff cloth float CG stalls near 1e-4.
+//
+// Baraff and Witkin take one such Newton step, linearised about the start of the step. At stiff
+// springs (1e6 N/m at 1/60 s) that one step gains energy: a spring that turns by h v across it
+// is stretched by (h v)^2 / 2L by the linearisation, k (h v)^4 / 8 L^2 of spring energy (tens
+// of joules per spring on a falling cloth). Here the step is instead solved to convergence, as
+// the minimisation of the incremental potential (Martin et al. 2011, Gast et al. 2015)
+//     Psi(v) = 1/2 (v - v0)^T M^ (v - v0) - h f0 . v + U~(x0 + h v) + h/2 sum c (u0 . v_ab)^2
+// by Newton's method with a backtracking line search, M^ = M + h k_drag the mass and the
+// fields' linear drag, f0 the fields' other forces at the step's start. U~ is a convex
+// majorant of the springs' energy that touches it at the step's start: per spring
+//     U~ = k/2 (max(l - L, 0)^2 + max(L - u0 . d, 0)^2),   d = x_a - x_b, l = |d|,
+// u0 the spring's direction at the start: the true energy while the spring is stretched, a
+// spring along u0 against compression (whose Hessian k u0 u0^T is Choi and Ko's clamped
+// Jacobian). U~ >= U and U~(x0) = U(x0), with U~ convex, make the step dissipative: at a
+// stationary point of Psi,
+//     E(x1, v1) <= E(x0, v0) - 1/2 |v1 - v0|_M^2 - h (damping's power) + G . v1,
+// E kinetic plus spring plus gravity energy, G the gradient of Psi left by the inexact solve
+// (reported as the energy slack). The damping force keeps the start's direction u0 too, as in
+// Baraff and Witkin. Assembled and solved in double whatever Real is.
 #pragma once
 
 #include <Eigen/Core>
@@ -13,10 +30,29 @@
 
 #include "deformable/modified_pcg.h"
 #include "inertia/core/types.h"
+#include "inertia/deformable/deformable.h"
 #include "inertia/deformable/model.h"
 #include "inertia/ode/implicit.h"
 
 namespace inertia::detail {
+
+/// A zero-length spring from a vertex to a point moving at `velocity` that reaches `target` at
+/// the step's end: the term k/2 |x - target|^2 + h c/2 |v - velocity|^2 of Psi (an attachment).
+struct AttachmentTerm {
+  std::uint32_t vertex = 0;
+  double k = 0, c = 0;
+  Eigen::Vector3d target = Eigen::Vector3d::Zero(), velocity = Eigen::Vector3d::Zero();
+};
+
+/// A vertex touching a body, held in the solve (Baraff and Witkin's constrained vertices,
+/// section 5.3: the filter S = I - n n^T) to the normal velocity `normalVelocity` (m/s) along
+/// `normal`; the solve's unbalanced gradient there is the contact impulse, handed to the body.
+struct ContactConstraint {
+  std::uint32_t vertex = 0;
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitY();
+  double normalVelocity = 0;
+  double impulse = 0;  ///< Out: the impulse along `normal` on the vertex (N s, >= 0).
+};
 
 /// What one implicit step reads besides the state.
 struct ImplicitEulerInput {
@@ -25,35 +61,50 @@ struct ImplicitEulerInput {
   std::span<const Real> masses;             ///< kg, one per vertex
   std::span<const std::uint8_t> pinned;     ///< one per vertex
   std::span<const Real> fieldAcceleration;  ///< m/s^2, 3 per vertex, at the step's start
-  /// Per vertex, the linear drag coefficient k (kg/s) of the fields (F = -k v), taken into
-  /// dF/dv so that strong drag is implicit too.
+  /// Per vertex, the linear drag coefficient k (kg/s) of the fields (F = -k v), taken
+  /// implicitly so that strong drag is stable too.
   std::span<const Real> fieldDamping;
+  /// Newton stops when |G| <= tolerance * (|M^ v0| + h |f0| + |G(v0)|); each Newton step's
+  /// PCG stops at a relative residual between tolerance and 0.1 (inexact Newton).
+  std::span<const AttachmentTerm> attachments = {};
+  /// In and out: contacts are released (impulse 0, left out of the filter) when they would pull.
+  std::span<ContactConstraint> contacts = {};
   double tolerance = 1e-6;
-  int maxIterations = 1000;
+  int maxIterations = 1000;  ///< PCG iterations per Newton step
+  int maxNewtonIterations = 20;
 };
 
 class ImplicitEuler {
  public:
   /// One step of h seconds; updates x and v (3 per vertex) in place unless the solve gave
   /// non-finite values, which leaves them as they were (the report says so).
-  ode::LinearSolveReport step(const ImplicitEulerInput& in, Real h, std::span<Real> x,
-                              std::span<Real> v);
+  ImplicitSolveReport step(const ImplicitEulerInput& in, Real h, std::span<Real> x,
+                           std::span<Real> v);
 
-  // The last step's system, for tests: A w, the right-hand side b and the solution dv.
+  /// The last Newton system: out = H w, H = M^ + h^2 K~ + h C at the last iterate.
   void apply(const Eigen::VectorXd& w, Eigen::VectorXd& out) const;
   void filter(Eigen::VectorXd& w) const;
-  const Eigen::VectorXd& rhs() const { return b_; }
-  const Eigen::VectorXd& solution() const { return dv_; }
+  void filterPinned(Eigen::VectorXd& w) const;
+  /// Psi's gradient G at velocities v (N s), pinned components zeroed.
+  const Eigen::VectorXd& gradient(const Eigen::VectorXd& v);
 
  private:
-  void assemble(const ImplicitEulerInput& in, double h);
-  void rightHandSide(const ImplicitEulerInput& in, double h);
+  void start(const ImplicitEulerInput& in, double h, std::span<const Real> x,
+             std::span<const Real> v);
+  void assemble(const Eigen::VectorXd& v);
+  bool newton(const ImplicitEulerInput& in, ImplicitSolveReport& report);
+  bool releasePullingContacts();
+  double lineSearch(const Eigen::VectorXd& p);
+  double psiChange(const Eigen::VectorXd& p, double alpha) const;
 
-  std::span<const Spring> springs_;
-  std::span<const std::uint8_t> broken_, pinned_;
-  std::vector<Eigen::Matrix3d> stiffness_;  // dF_a/dx_a per spring
-  std::vector<Eigen::Matrix3d> blocks_;     // -(h dF_a/dv_a + h^2 dF_a/dx_a) per spring
-  Eigen::VectorXd x_, v_, f_, kv_, b_, dv_, massDiagonal_, inverseDiagonal_;
+  const ImplicitEulerInput* in_ = nullptr;
+  double h_ = 0;
+  std::vector<std::uint8_t> held_;       // per contact: still in the filter
+  std::vector<Eigen::Vector3d> u0_;      // each spring's direction at the start (0: collapsed)
+  std::vector<Eigen::Matrix3d> blocks_;  // h^2 K~ + h c u0 u0^T per spring, at the last iterate
+  Eigen::VectorXd anchorDiagonal_;       // h^2 k + h c of the attachments, per component
+  Eigen::VectorXd diagonal_;             // M^ + the attachments' part: H's diagonal before springs
+  Eigen::VectorXd x0_, v0_, v_, x_, f0_, massDiagonal_, inverseDiagonal_, g_, p_, trial_;
   PcgBuffers pcg_;
 };
 

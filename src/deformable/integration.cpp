@@ -32,6 +32,15 @@ void Deformable::integrateExplicit(Real h) {
     applyFields(fields_, FieldBatch{t, {x.data(), n3}, {v.data(), n3}, masses_, {a.data(), n3}});
     std::fill(w.forces.begin(), w.forces.end(), Real(0));
     detail::addSpringForces<Real>(springs_, broken_, x.data(), v.data(), w.forces.data());
+    // Attachments: their points move on at their velocities from the step's start.
+    for (std::size_t k = 0; k < attachments_.size(); ++k) {
+      const Attachment& at = attachments_[k];
+      const Vec3 p = attachmentPositions_[k] + (t - Real(time_)) * attachmentVelocities_[k];
+      Eigen::Map<Vec3>(&w.forces[3 * at.vertex]) -=
+          at.stiffness * (Eigen::Map<const Vec3>(x.data() + 3 * at.vertex) - p) +
+          at.damping *
+              (Eigen::Map<const Vec3>(v.data() + 3 * at.vertex) - attachmentVelocities_[k]);
+    }
     for (std::size_t i = 0; i < n3; ++i)
       a[Eigen::Index(i)] =
           pinned_[i / 3] ? Real(0) : a[Eigen::Index(i)] + w.forces[i] / masses_[i / 3];
@@ -48,14 +57,25 @@ void Deformable::integrateImplicit(Real h) {
   for (const ForceField& f : fields_)
     for (std::size_t i = 0; i < n; ++i)
       w.fieldDamping[i] += linearDamping(f, Eigen::Map<const Vec3>(&x_[3 * i]));
+  w.attachments.clear();
+  for (std::size_t k = 0; k < attachments_.size(); ++k) {
+    const Attachment& a = attachments_[k];
+    w.attachments.push_back(
+        {a.vertex, double(a.stiffness), double(a.damping),
+         (attachmentPositions_[k] + h * attachmentVelocities_[k]).cast<double>(),
+         attachmentVelocities_[k].cast<double>()});
+  }
   const detail::ImplicitEulerInput input{.springs = springs_,
                                          .broken = broken_,
                                          .masses = masses_,
                                          .pinned = pinned_,
                                          .fieldAcceleration = w.fieldAcceleration,
                                          .fieldDamping = w.fieldDamping,
+                                         .attachments = w.attachments,
+                                         .contacts = w.contacts,
                                          .tolerance = settings_.solverTolerance,
-                                         .maxIterations = settings_.solverMaxIterations};
+                                         .maxIterations = settings_.solverMaxIterations,
+                                         .maxNewtonIterations = settings_.newtonMaxIterations};
   lastSolve_ = w.implicit.step(input, h, x_, v_);
 }
 

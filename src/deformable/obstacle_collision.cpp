@@ -1,7 +1,9 @@
 // The collision stage of a deformable's step: every free vertex against the static obstacles
 // (swept from where the step started, as particles are, so fast vertices do not tunnel), then
 // pushed out to `thickness` from every obstacle, static or moving. Contacts are inelastic with
-// Coulomb friction (the particles' impact model with restitution 0).
+// Coulomb friction (the particles' impact model with restitution 0); against a dynamic body
+// the impulse is shared by the vertex's and the body's masses and reported for the body.
+#include <algorithm>
 #include <optional>
 
 #include "deformable/scratch.h"
@@ -19,28 +21,37 @@ Real skin(Real thickness) { return Real(1e-3) * thickness; }
 struct Contact {
   Vec3 point, normal;
   Real fraction;
+  std::ptrdiff_t moving = -1;  // index of the moving obstacle hit, -1 for a static one
 };
 
-// The first obstacle at rest (a static one, or a moving one whose velocity is zero) the
-// segment start -> end enters.
+// The first obstacle the vertex's path start -> end enters. A moving obstacle is swept in its
+// own frame at the step's end (its pose): the start is carried by the body's motion over the
+// step, start + h (v + w x (start - c)), to first order, so the segment is the vertex's motion
+// relative to the body and a fast body cannot pass over a vertex (nor a vertex through it).
 std::optional<Contact> firstHit(std::span<const Obstacle> obstacles,
                                 std::span<const MovingObstacle> moving,
                                 std::span<const Aabb> bounds, const Vec3& start, const Vec3& end,
-                                Real thickness) {
-  const Aabb swept = Aabb{start.cwiseMin(end), start.cwiseMax(end)}.inflated(thickness);
+                                Real thickness, Real h) {
   std::optional<Contact> first;
-  const auto test = [&](const Collider& collider, const Transform& pose, const Aabb& box) {
+  const auto test = [&](const Collider& collider, const Transform& pose, const Aabb& box,
+                        const Vec3& from, std::ptrdiff_t index) {
+    const Aabb swept = Aabb{from.cwiseMin(end), from.cwiseMax(end)}.inflated(thickness);
     if (!box.overlaps(swept)) return;
     const Real maxFraction = first ? first->fraction : Real(1);
-    const auto hit = castRay(collider, pose, Ray{start, end - start, maxFraction});
+    const auto hit = castRay(collider, pose, Ray{from, end - from, maxFraction});
     if (hit && (!first || hit->fraction < first->fraction))
-      first = Contact{hit->point, hit->normal, hit->fraction};
+      first = Contact{hit->point, hit->normal, hit->fraction, index};
   };
   for (std::size_t k = 0; k < obstacles.size(); ++k)
-    test(obstacles[k].collider, obstacles[k].pose, bounds[k]);
-  for (std::size_t k = 0; k < moving.size(); ++k)
-    if (moving[k].linearVelocity.isZero(0) && moving[k].angularVelocity.isZero(0))
-      test(*moving[k].collider, moving[k].pose, bounds[obstacles.size() + k]);
+    test(obstacles[k].collider, obstacles[k].pose, bounds[k], start, -1);
+  for (std::size_t k = 0; k < moving.size(); ++k) {
+    const MovingObstacle& o = moving[k];
+    // The body's centre at the step's start is h v behind where it is now.
+    const Vec3 from =
+        start +
+        h * (o.linearVelocity + o.angularVelocity.cross(start - (o.center - h * o.linearVelocity)));
+    test(*o.collider, o.pose, bounds[obstacles.size() + k], from, std::ptrdiff_t(k));
+  }
   return first;
 }
 
@@ -57,9 +68,85 @@ bool pushOut(const Collider& collider, const Transform& pose, const Vec3& surfac
   return true;
 }
 
+// An inelastic contact with Coulomb friction between a vertex of inverse mass wv and a body
+// (inverse mass and world inverse inertia about its centre), at the vertex x with normal n:
+// the normal impulse stops the approach, jn = -v_n / w_n with w_n = wv + 1/M + (r x n)^T I^-1
+// (r x n), and friction takes up to mu jn off the sliding (Mirtich and Canny's impulse, e = 0).
+// The vertex gets J, the body -J (written to its velocities here, so later vertices see them).
+// Returns the impulse on the body.
+Vec3 twoWayImpulse(MovingObstacle& o, Real wv, Real friction, const Vec3& x, const Vec3& n,
+                   Vec3& v) {
+  const Vec3 r = x - o.center;
+  const Vec3 relative = v - (o.linearVelocity + o.angularVelocity.cross(r));
+  const Real vn = relative.dot(n);
+  if (!(vn < 0)) return Vec3::Zero();
+  const auto inverseMass = [&](const Vec3& d) {
+    const Vec3 rd = r.cross(d);
+    return wv + o.inverseMass + rd.dot(o.inverseInertia * rd);
+  };
+  const Real jn = -vn / inverseMass(n);
+  Vec3 j = jn * n;
+  const Vec3 vt = relative - vn * n;
+  const Real vtNorm = vt.norm();
+  if (vtNorm > 0) {
+    const Vec3 t = vt / vtNorm;
+    j -= std::min(vtNorm / inverseMass(t), friction * jn) * t;
+  }
+  v += wv * j;
+  o.linearVelocity -= o.inverseMass * j;
+  o.angularVelocity -= o.inverseInertia * r.cross(j);
+  return -j;
+}
+
 }  // namespace
 
-void Deformable::collide() {
+// The implicit step's contacts with dynamic bodies: each free vertex within twice the
+// thickness of a dynamic body's shape, not approaching it faster than the thickness per step
+// (resting contact), is held in the solve to the body's normal velocity there, plus what brings
+// it back out to the thickness within the step. Faster approaches are impacts, shared by the
+// vertex's and the body's masses in collide().
+void Deformable::holdBodyContacts(Real h) {
+  auto& contacts = scratch_->contacts;
+  contacts.clear();
+  scratch_->contactObstacles.clear();
+  const Real r = settings_.thickness;
+  const std::span<const Aabb> bounds = scratch_->obstacleBounds;
+  for (std::size_t i = 0; i < vertexCount(); ++i) {
+    if (pinned_[i]) continue;
+    const Vec3 x = Eigen::Map<const Vec3>(&x_[3 * i]);
+    for (std::size_t k = 0; k < moving_.size(); ++k) {
+      const MovingObstacle& o = moving_[k];
+      if (!(o.inverseMass > 0) || !bounds[obstacles_.size() + k].inflated(2 * r).contains(x))
+        continue;
+      const PointQuery q = queryPoint(*o.collider, o.pose, x);
+      if (!(q.distance < 2 * r)) continue;
+      const Vec3 surface = o.linearVelocity + o.angularVelocity.cross(x - o.center);
+      const Vec3 v = Eigen::Map<const Vec3>(&v_[3 * i]);
+      if ((v - surface).dot(q.normal) < -r / h) continue;
+      const Real recover = std::max(Real(0), r + skin(r) - q.distance) / h;
+      contacts.push_back({std::uint32_t(i), q.normal.cast<double>(),
+                          double(surface.dot(q.normal) + recover), 0.0});
+      scratch_->contactObstacles.push_back(k);
+      break;  // one contact per vertex
+    }
+  }
+}
+
+// The held contacts' impulses, reversed onto their bodies (and their velocities here).
+void Deformable::pushHeldContacts() {
+  const auto& contacts = scratch_->contacts;
+  for (std::size_t c = 0; c < contacts.size(); ++c) {
+    if (!(contacts[c].impulse > 0)) continue;
+    MovingObstacle& o = moving_[scratch_->contactObstacles[c]];
+    const Vec3 x = Eigen::Map<const Vec3>(&x_[3 * contacts[c].vertex]);
+    const Vec3 j = -Real(contacts[c].impulse) * contacts[c].normal.cast<Real>();
+    o.linearVelocity += o.inverseMass * j;
+    o.angularVelocity += o.inverseInertia * (x - o.center).cross(j);
+    obstacleImpulses_.push_back({scratch_->contactObstacles[c], j, x});
+  }
+}
+
+void Deformable::collide(Real h) {
   if (obstacles_.empty() && moving_.empty()) return;
   const Real r = settings_.thickness, mu = settings_.friction;
   const std::span<const Aabb> bounds = scratch_->obstacleBounds;
@@ -68,10 +155,17 @@ void Deformable::collide() {
     Eigen::Map<Vec3> xm(&x_[3 * i]), vm(&v_[3 * i]);
     Vec3 x = xm, v = vm;
     const Vec3 start = Eigen::Map<const Vec3>(&scratch_->start[3 * i]);
-    if (const auto hit = firstHit(obstacles_, moving_, bounds, start, x, r)) {
+    if (const auto hit = firstHit(obstacles_, moving_, bounds, start, x, r, h)) {
       // Stop at the surface, moved out by the thickness; the rest of the step is lost.
       x = hit->point + hit->normal * (r + skin(r));
-      detail::respondToImpact(v, hit->normal, 0, mu, 0);
+      if (hit->moving >= 0) {
+        // Relative to the body's surface; shared with the body's mass when it is dynamic.
+        const std::size_t k = std::size_t(hit->moving);
+        const Vec3 j = twoWayImpulse(moving_[k], 1 / masses_[i], mu, x, hit->normal, v);
+        if (moving_[k].inverseMass > 0 && !j.isZero(0)) obstacleImpulses_.push_back({k, j, x});
+      } else {
+        detail::respondToImpact(v, hit->normal, 0, mu, 0);
+      }
     }
     for (std::size_t k = 0; k < obstacles_.size(); ++k)
       if (bounds[k].inflated(r).contains(x))
@@ -79,6 +173,16 @@ void Deformable::collide() {
     for (std::size_t k = 0; k < moving_.size(); ++k) {
       const MovingObstacle& o = moving_[k];
       if (!bounds[obstacles_.size() + k].inflated(r).contains(x)) continue;
+      if (o.inverseMass > 0) {
+        // A dynamic body: pushed out the same way, the velocities exchanged two-way.
+        MovingObstacle& body = moving_[k];
+        const PointQuery q = queryPoint(*o.collider, o.pose, x);
+        if (!(q.distance < r)) continue;
+        x += q.normal * (r + skin(r) - q.distance);
+        const Vec3 j = twoWayImpulse(body, 1 / masses_[i], mu, x, q.normal, v);
+        if (!j.isZero(0)) obstacleImpulses_.push_back({k, j, x});
+        continue;
+      }
       const Vec3 surface = o.linearVelocity + o.angularVelocity.cross(x - o.center);
       pushOut(*o.collider, o.pose, surface, r, mu, x, v);
     }

@@ -18,6 +18,9 @@ struct Deformable::Scratch {
   std::vector<Real> fieldDamping;       // kg/s per vertex (linear drag and wind)
   std::vector<Real> start;              // positions at the step's start, for swept collisions
   detail::ImplicitEuler implicit;
+  std::vector<detail::AttachmentTerm> attachments;  // the implicit step's view of attachments_
+  std::vector<detail::ContactConstraint> contacts;  // vertices held against dynamic bodies
+  std::vector<std::size_t> contactObstacles;        // each one's index into moving_
   std::vector<Aabb> obstacleBounds;  // world bounds of obstacles_, then of moving_
 };
 

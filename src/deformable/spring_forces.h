@@ -70,4 +70,52 @@ inline SpringJacobian springJacobian(const Spring& s, const Eigen::Vector3d& xa,
   return j;
 }
 
+/// The convex majorant of a spring's energy that the implicit step minimises (implicit_euler.h):
+///     U~(d) = k/2 (max(l - L, 0)^2 + max(L - u0 . d, 0)^2),   l = |d|,
+/// with u0 the spring's unit direction at the step's start (zero for a collapsed spring, which
+/// makes the second term k L^2 / 2). U~ >= U = k (l - L)^2 / 2 everywhere and U~ = U at the
+/// start: a stretched spring is itself, a compressed one pushes along u0. Both terms are convex.
+struct SurrogateSpring {
+  double k, rest;
+  Eigen::Vector3d u0;
+
+  double tension(const Eigen::Vector3d& d) const { return std::max(0.0, d.norm() - rest); }
+  double compression(const Eigen::Vector3d& d) const { return std::max(0.0, rest - u0.dot(d)); }
+  double energy(const Eigen::Vector3d& d) const {
+    const double t = tension(d), c = compression(d);
+    return 0.5 * k * (t * t + c * c);
+  }
+  /// -dU~/dd: the force on vertex a (on b it is the opposite).
+  Eigen::Vector3d force(const Eigen::Vector3d& d) const {
+    const double l = d.norm(), t = tension(d);
+    Eigen::Vector3d f = k * compression(d) * u0;
+    if (t > 0) f -= k * t * (d / l);
+    return f;
+  }
+  /// d^2 U~/dd^2, positive semi-definite: k (u u^T + (1 - L/l)(I - u u^T)) while stretched,
+  /// plus k u0 u0^T while compressed along u0.
+  Eigen::Matrix3d stiffness(const Eigen::Vector3d& d) const {
+    Eigen::Matrix3d kk = Eigen::Matrix3d::Zero();
+    const double l = d.norm();
+    if (l > rest) {
+      const Eigen::Vector3d u = d / l;
+      const Eigen::Matrix3d uu = u * u.transpose();
+      kk += k * (uu + (1 - rest / l) * (Eigen::Matrix3d::Identity() - uu));
+    }
+    if (compression(d) > 0) kk += k * u0 * u0.transpose();
+    return kk;
+  }
+  /// U~(d + delta) - U~(d), formed from differences so that a line search's small changes are
+  /// not lost to cancellation: l' - l = delta . (d' + d) / (l' + l).
+  double energyChange(const Eigen::Vector3d& d, const Eigen::Vector3d& delta) const {
+    const Eigen::Vector3d e = d + delta;
+    const double lo = d.norm(), ln = e.norm();
+    const double to = std::max(0.0, lo - rest), tn = std::max(0.0, ln - rest);
+    const double dt = (to > 0 && tn > 0 && ln + lo > 0) ? delta.dot(e + d) / (ln + lo) : tn - to;
+    const double co = compression(d), cn = compression(e);
+    const double dc = (co > 0 && cn > 0) ? -u0.dot(delta) : cn - co;
+    return 0.5 * k * (dt * (tn + to) + dc * (cn + co));
+  }
+};
+
 }  // namespace inertia::detail

@@ -1,5 +1,6 @@
 #include "deformables_section.h"
 
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <vector>
@@ -171,21 +172,34 @@ void readSettings(const Node& n, DeformableSettings& s) {
     }
     s.integrator = *method;
   }
-  // Keys of DESIGN.md whose features are not built yet: refused rather than ignored.
-  if (n.has("self_collision") && n.at("self_collision").boolean())
-    n.at("self_collision")
-        .fail("self-collision of deformables is not implemented yet in this version of Inertia");
-  if (n.has("attach") && n.at("attach").requireArray() != 0)
-    n.at("attach")
-        .at(std::size_t(0))
-        .fail(
-            "attachments of deformables to bodies are not implemented yet in this version of "
-            "Inertia");
+  if (n.has("self_collision")) s.selfCollision = n.at("self_collision").boolean();
+}
+
+// "attach": [{"vertex", "body", "anchor" (in the body's frame), "stiffness", "damping"}].
+void readAttachments(const Node& n, const std::vector<BodyDesc>& bodies, DeformableDesc& d) {
+  if (!n.has("attach")) return;
+  Node list = n.at("attach");
+  for (std::size_t i = 0; i < list.requireArray(); ++i) {
+    Node a = list.at(i);
+    a.requireObject({"vertex", "body", "anchor", "stiffness", "damping"});
+    Attachment at;
+    at.vertex = readVertex(a.at("vertex"), d.model.vertexCount());
+    const std::string name = a.at("body").string();
+    if (std::none_of(bodies.begin(), bodies.end(),
+                     [&](const BodyDesc& b) { return b.settings.name == name; }))
+      a.at("body").fail("no body is named \"" + name + "\"");
+    if (a.has("anchor")) at.anchor = a.at("anchor").vec3();
+    if (a.has("stiffness")) at.stiffness = Real(a.at("stiffness").number(0, 1e12, true));
+    if (a.has("damping")) at.damping = Real(a.at("damping").number(0, 1e12));
+    d.attachments.push_back(at);
+    d.attachmentBodies.push_back(name);
+  }
 }
 
 }  // namespace
 
-DeformableDesc readDeformable(const Node& n, std::size_t index) {
+DeformableDesc readDeformable(const Node& n, std::size_t index,
+                              const std::vector<BodyDesc>& bodies) {
   DeformableDesc d;
   const std::string type = n.at("type").string();
   d.settings.name = n.has("name") ? n.at("name").string() : std::to_string(index);
@@ -209,6 +223,7 @@ DeformableDesc readDeformable(const Node& n, std::size_t index) {
     for (std::size_t i = 0; i < list.requireArray(); ++i)
       d.model.pinned.push_back(readVertex(list.at(i), d.model.vertexCount()));
   }
+  readAttachments(n, bodies, d);
   if (n.has("fields")) {
     Node list = n.at("fields");
     for (std::size_t i = 0; i < list.requireArray(); ++i) d.fields.push_back(readField(list.at(i)));

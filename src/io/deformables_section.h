@@ -7,6 +7,7 @@
 namespace inertia::io::detail {
 
 /// Reads one entry of "deformables"; `index` names it when it has no "name".
-DeformableDesc readDeformable(const Node& n, std::size_t index);
+DeformableDesc readDeformable(const Node& n, std::size_t index,
+                              const std::vector<BodyDesc>& bodies);
 
 }  // namespace inertia::io::detail

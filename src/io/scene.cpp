@@ -169,7 +169,7 @@ Scene parseScene(const std::string& text, const std::filesystem::path& name) {
   if (n.has("deformables")) {
     Node list = n.at("deformables");
     for (std::size_t i = 0; i < list.requireArray(); ++i)
-      scene.deformables.push_back(detail::readDeformable(list.at(i), i));
+      scene.deformables.push_back(detail::readDeformable(list.at(i), i, scene.bodies));
   }
   if (n.has("articulations")) {
     // Their links are bodies named ARTICULATION/LINK: the names must not clash with the
@@ -260,6 +260,11 @@ std::unique_ptr<World> instantiate(const Scene& scene) {
   for (const DeformableDesc& d : scene.deformables) {
     Deformable& deformable = world->deformable(world->createDeformable(d.settings, d.model));
     for (const ForceField& f : d.fields) deformable.addField(f);
+    for (std::size_t k = 0; k < d.attachments.size(); ++k) {
+      Attachment a = d.attachments[k];
+      a.body = bodyNamed(d.attachmentBodies[k]);
+      deformable.addAttachment(a);
+    }
   }
   return world;
 }

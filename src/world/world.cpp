@@ -97,11 +97,18 @@ void World::followBodies(ParticleSystem& ps) {
 // (deterministic), for particle systems that collide with bodies.
 void World::gatherBodyObstacles() {
   bodyObstacles_.clear();
+  obstacleBodies_.clear();
   for (BodyId body : bodies_.bodies()) {
     const Vec3 v = bodies_.linearVelocity(body), w = bodies_.angularVelocity(body);
     const Vec3 center = bodies_.centerOfMass(body);
-    for (ShapeId shape : bodies_.shapes(body))
-      bodyObstacles_.push_back({&bodies_.collider(shape), bodies_.shapeTransform(shape), v, w, center});
+    const bool dynamic = bodies_.type(body) == BodyType::Dynamic && bodies_.mass(body) > 0;
+    const Real inverseMass = dynamic ? 1 / bodies_.mass(body) : Real(0);
+    const Mat3 inverseInertia = dynamic ? Mat3(bodies_.inertiaWorld(body).inverse()) : Mat3::Zero();
+    for (ShapeId shape : bodies_.shapes(body)) {
+      bodyObstacles_.push_back({&bodies_.collider(shape), bodies_.shapeTransform(shape), v, w,
+                                center, inverseMass, inverseInertia});
+      obstacleBodies_.push_back(body);
+    }
   }
 }
 
@@ -146,7 +153,10 @@ std::vector<ParticleSystemId> World::particleSystems() const {
   return ids;
 }
 
-// The deformables, one step of dt each in slot order, on the calling thread.
+// The deformables, one step of dt each in slot order, on the calling thread, after the bodies'
+// step: the bodies are their moving obstacles and attachment points for the step, and what the
+// deformable gave them back (contact and attachment impulses) changes their velocities for the
+// next one (explicit coupling, momentum conserving).
 void World::stepDeformables(Real dt, bool& obstaclesGathered) {
   const auto t0 = std::chrono::steady_clock::now();
   for (DeformableSlot& slot : deformableSlots_) {
@@ -157,10 +167,57 @@ void World::stepDeformables(Real dt, bool& obstaclesGathered) {
       obstaclesGathered = true;
       d.setMovingObstacles(bodyObstacles_);
     }
+    moveAttachments(d, dt);
     d.step(dt);
+    if (pushBodies(d)) obstaclesGathered = false;  // velocities changed: gather again
   }
+  // Deformables with self-collision also collide with each other, over the step just taken.
+  colliding_.clear();
+  for (DeformableSlot& slot : deformableSlots_)
+    if (slot.deformable && slot.deformable->settings().selfCollision)
+      colliding_.push_back(slot.deformable.get());
+  if (colliding_.size() >= 2) Deformable::collideDeformables(colliding_, dt);
   phases_.deformables +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Each attachment's point follows its body (a destroyed body leaves it where it was, still).
+// The bodies have already stepped: the point's motion over the deformable's step is from where
+// the last one left it to where the body is now (the step's mean velocity: the velocity after
+// the step holds the impulses applied at its end); the first time, at the body's velocity.
+void World::moveAttachments(Deformable& d, Real dt) {
+  const std::span<const Attachment> attachments = d.attachments();
+  for (std::size_t k = 0; k < attachments.size(); ++k) {
+    const BodyId body = attachments[k].body;
+    if (!bodies_.isValid(body)) {
+      d.setAttachmentMotion(k, d.attachmentPoint(k), Vec3::Zero());
+      continue;
+    }
+    const Vec3 p = bodies_.transform(body).apply(attachments[k].anchor);
+    const Vec3 v = d.hasAttachmentMotion(k)
+                       ? Vec3((p - d.attachmentPoint(k)) / dt)
+                       : Vec3(bodies_.linearVelocity(body) +
+                              bodies_.angularVelocity(body).cross(p - bodies_.centerOfMass(body)));
+    d.setAttachmentMotion(k, p - dt * v, v);
+  }
+}
+
+// The impulses the deformable's last step gave dynamic bodies; true when there were any.
+bool World::pushBodies(const Deformable& d) {
+  bool pushed = false;
+  for (const ObstacleImpulse& j : d.obstacleImpulses()) {
+    bodies_.applyImpulse(obstacleBodies_[j.obstacle], j.impulse, j.point);
+    pushed = true;
+  }
+  const std::span<const Attachment> attachments = d.attachments();
+  for (std::size_t k = 0; k < attachments.size(); ++k) {
+    const BodyId body = attachments[k].body;
+    if (!bodies_.isValid(body) || bodies_.type(body) != BodyType::Dynamic) continue;
+    const Vec3 p = bodies_.transform(body).apply(attachments[k].anchor);
+    bodies_.applyImpulse(body, d.attachmentImpulse(k), p);
+    pushed = true;
+  }
+  return pushed;
 }
 
 DeformableId World::createDeformable(const DeformableSettings& settings,

@@ -26,13 +26,14 @@ TEST(DeformablesSection, ClothAsInTheDesignDocument) {
       R"({ "name": "flag", "type": "cloth", "position": [0, 3, 0], "orientation": [1, 0, 0, 0],
       "size": [2, 1], "resolution": [40, 20], "mass": 0.5, "thickness": 0.01,
       "stiffness": { "stretch": 5000, "shear": 500, "bend": 5 }, "damping": 0.01,
-      "integrator": "implicit_euler", "self_collision": false, "friction": 0.3,
+      "integrator": "implicit_euler", "self_collision": true, "friction": 0.3,
       "pinned": [0, 20], "attach": [], "tear_strain": 0,
       "fields": [ { "type": "gravity" }, { "type": "wind", "velocity": [3, 0, 0], "k": 0.01 } ] })");
   ASSERT_EQ(s.deformables.size(), 1u);
   const DeformableDesc& d = s.deformables[0];
   EXPECT_EQ(d.settings.name, "flag");
   EXPECT_EQ(d.settings.integrator, ode::Method::BackwardEuler);
+  EXPECT_TRUE(d.settings.selfCollision);
   EXPECT_EQ(d.model.vertexCount(), 41u * 21u);
   EXPECT_FLOAT_EQ(d.model.masses[0] * Real(41 * 21), Real(0.5));
   EXPECT_EQ(d.model.pinned, (std::vector<std::uint32_t>{0, 20}));
@@ -41,6 +42,26 @@ TEST(DeformablesSection, ClothAsInTheDesignDocument) {
   auto world = instantiate(s);
   ASSERT_EQ(world->deformables().size(), 1u);
   EXPECT_EQ(world->deformable(world->deformables()[0]).fields().size(), 2u);
+}
+
+// "attach" holds a vertex to a named body's point, both ways, in the instantiated world.
+TEST(DeformablesSection, AttachmentsToBodies) {
+  const Scene s = parseScene(R"({
+    "bodies": [ { "name": "weight", "type": "dynamic", "position": [0, -1, 0],
+                  "shapes": [ { "type": "sphere", "radius": 0.1 } ] } ],
+    "deformables": [ { "type": "rope", "from": [0, 0, 0], "to": [0, -1, 0], "segments": 4,
+                       "pinned": [0],
+                       "attach": [ { "vertex": 4, "body": "weight", "anchor": [0, 0.1, 0],
+                                     "stiffness": 3000, "damping": 2 } ] } ] })",
+                             "test.json");
+  ASSERT_EQ(s.deformables[0].attachments.size(), 1u);
+  EXPECT_EQ(s.deformables[0].attachments[0].vertex, 4u);
+  EXPECT_FLOAT_EQ(s.deformables[0].attachments[0].stiffness, 3000);
+  auto world = instantiate(s);
+  const Deformable& d = world->deformable(world->deformables()[0]);
+  ASSERT_EQ(d.attachments().size(), 1u);
+  EXPECT_EQ(d.attachments()[0].body, world->rigidBodies().bodies()[0]);
+  EXPECT_TRUE(d.attachments()[0].anchor.isApprox(Vec3(0, Real(0.1), 0)));
 }
 
 TEST(DeformablesSection, RopeSoftBodiesAndMesh) {
@@ -72,10 +93,14 @@ TEST(DeformablesSection, ErrorsNameTheJsonPointer) {
             "/deformables/0/stiffness/stretch");
   EXPECT_EQ(pointerOf(R"({"type": "cloth", "integrator": "leapfrog"})"),
             "/deformables/0/integrator");
-  EXPECT_EQ(pointerOf(R"({"type": "cloth", "self_collision": true})"),
+  EXPECT_EQ(pointerOf(R"({"type": "cloth", "self_collision": 1})"),
             "/deformables/0/self_collision");
   EXPECT_EQ(pointerOf(R"({"type": "cloth", "attach": [{"vertex": 0}]})"),
             "/deformables/0/attach/0");
+  EXPECT_EQ(pointerOf(R"({"type": "cloth", "attach": [{"vertex": 0, "body": "pole"}]})"),
+            "/deformables/0/attach/0/body");
+  EXPECT_EQ(pointerOf(R"({"type": "cloth", "resolution": [2, 2], "attach": [{"vertex": 9}]})"),
+            "/deformables/0/attach/0/vertex");
   EXPECT_EQ(pointerOf(R"({"type": "rope", "from": [0, 0, 0], "to": [0, 0, 0]})"), "/deformables/0");
   EXPECT_EQ(pointerOf(R"({"type": "soft_body", "shape": {"type": "cone"}})"),
             "/deformables/0/shape/type");

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "inertia/core/id.h"
 #include "inertia/core/types.h"
 #include "inertia/deformable/model.h"
 #include "inertia/ode/implicit.h"
@@ -30,16 +31,52 @@ struct DeformableSettings {
   Real friction = Real(0.3);
   /// A spring breaks when its strain (l - L) / L exceeds this; 0 never breaks.
   Real tearStrain = 0;
-  /// The implicit step's modified PCG stops when its preconditioned residual has fallen by
-  /// this factor (relative), or after maxIterations.
+  /// The implicit step's Newton iterations stop when the gradient of the incremental potential
+  /// has fallen to this fraction of its scale (|M v0| + h |f|), or after newtonMaxIterations;
+  /// each one's modified PCG stops at a relative residual between this and 0.1, or after
+  /// solverMaxIterations.
   double solverTolerance = 1e-6;
   int solverMaxIterations = 1000;
-  /// In a World: every body's shapes are obstacles too (one way: bodies do not feel it).
+  int newtonMaxIterations = 20;
+  /// Vertex-triangle and edge-edge collisions within the deformable (Bridson et al. 2002); in
+  /// a World, also with the other deformables that have it.
+  bool selfCollision = false;
+  /// In a World: every body's shapes are obstacles too; dynamic bodies feel the contacts.
   bool collideWithBodies = true;
 };
 
 /// Checks settings; throws InvalidArgument naming the first bad field.
 void validate(const DeformableSettings& settings);
+
+/// A vertex held to a point of a body by a zero-length damped spring, F = -k (x - p) - c (v - v_p)
+/// on the vertex and -F on the body at p (two-way). The world gives the point's motion before
+/// each step (setAttachmentMotion) and applies attachmentImpulse() to the body after it.
+struct Attachment {
+  std::uint32_t vertex = 0;
+  BodyId body{};
+  Vec3 anchor = Vec3::Zero();  ///< p in the body's frame (m).
+  Real stiffness = 1e4;        ///< k (N/m), > 0.
+  Real damping = 0;            ///< c (N s/m), >= 0.
+};
+
+/// An impulse a deformable's vertex gave a moving obstacle (a body) during a step.
+struct ObstacleImpulse {
+  std::size_t obstacle = 0;     ///< Index into the span given to setMovingObstacles().
+  Vec3 impulse = Vec3::Zero();  ///< On the obstacle (N s, world).
+  Vec3 point = Vec3::Zero();    ///< Where (m, world).
+};
+
+/// The last implicit step's solve (Newton on the incremental potential, src/deformable/
+/// implicit_euler.h).
+struct ImplicitSolveReport {
+  int newtonIterations = 0;  ///< Newton steps taken.
+  int iterations = 0;        ///< PCG iterations, over all Newton steps.
+  double error = 0;          ///< Final gradient relative to its scale.
+  /// max(0, G . v1) (J): the step's total energy (kinetic, springs, gravity) is at most this
+  /// above its start (0 for an exact solve, which never gains energy).
+  double energySlack = 0;
+  bool converged = true;  ///< False if the tolerance was not met or the result was not finite.
+};
 
 /// A spring that broke: the step's strain exceeded DeformableSettings::tearStrain.
 struct TearEvent {
@@ -96,16 +133,43 @@ class Deformable {
   /// end of each step, with friction on the velocity relative to their surface.
   void setMovingObstacles(std::span<const MovingObstacle> obstacles);
 
+  /// Holds a vertex to a body's point (validated: a vertex that exists, k > 0, c >= 0, finite
+  /// anchor); returns the index. The point stays where it is until setAttachmentMotion.
+  std::size_t addAttachment(const Attachment& attachment);
+  std::span<const Attachment> attachments() const { return attachments_; }
+  /// The attachment point's world position (m) and velocity (m/s) at the next step's start;
+  /// during the step it moves on at that velocity.
+  void setAttachmentMotion(std::size_t attachment, const Vec3& position, const Vec3& velocity);
+  /// The attachment point's world position now (m): at the end of the last step's motion, or
+  /// the vertex's position before any setAttachmentMotion (then hasAttachmentMotion is false).
+  Vec3 attachmentPoint(std::size_t attachment) const { return attachmentPositions_.at(attachment); }
+  bool hasAttachmentMotion(std::size_t attachment) const {
+    return attachmentMoved_.at(attachment) != 0;
+  }
+  /// The impulse (N s, world) the last step's attachment spring gave the body at its point.
+  Vec3 attachmentImpulse(std::size_t attachment) const {
+    return attachmentImpulses_.at(attachment);
+  }
+  /// Impulses the last step's contacts gave moving obstacles with mass (two-way contacts): the
+  /// vertices' momentum change, reversed, so their sum is conserved.
+  std::span<const ObstacleImpulse> obstacleImpulses() const { return obstacleImpulses_; }
+
   /// Advances by h seconds: integrate (explicit or implicit), collide with the obstacles
   /// (swept, then pushed out to `thickness`), break springs past the strain limit. Throws
   /// InvalidArgument when h is not finite and > 0. Never produces NaN from valid input: an
   /// implicit solve that fails to give finite values leaves the velocities as they were.
   void step(Real h);
 
+  /// The collision stage of self-collision run over several deformables' last steps at once
+  /// (each stepped by h from where its own step started): their vertices and triangles collide
+  /// with each other's as with their own. A World calls it for its deformables with
+  /// selfCollision after stepping them.
+  static void collideDeformables(std::span<Deformable* const> deformables, Real h);
+
   /// The springs that broke during the last step.
   std::span<const TearEvent> tearEvents() const { return tearEvents_; }
-  /// The last implicit step's linear solve (iterations, relative residual |r| / |b|).
-  const ode::LinearSolveReport& lastSolve() const { return lastSolve_; }
+  /// The last implicit step's solve.
+  const ImplicitSolveReport& lastSolve() const { return lastSolve_; }
   double time() const { return time_; }
 
   /// Kinetic energy (J) and the springs' potential energy sum k (l - L)^2 / 2 (J), in double.
@@ -117,7 +181,10 @@ class Deformable {
   // The stages of step(), each in its own file of src/deformable/.
   void integrateExplicit(Real h);  // integration.cpp
   void integrateImplicit(Real h);  // integration.cpp
-  void collide();                  // obstacle_collision.cpp
+  void holdBodyContacts(Real h);   // obstacle_collision.cpp
+  void pushHeldContacts();         // obstacle_collision.cpp
+  void moveAttachments(Real h);    // attachments.cpp
+  void collide(Real h);            // obstacle_collision.cpp
   void tear();                     // tearing.cpp
 
   DeformableSettings settings_;
@@ -126,12 +193,17 @@ class Deformable {
   std::vector<Spring> springs_;
   std::vector<std::uint8_t> broken_;
   std::vector<std::array<std::uint32_t, 3>> triangles_;
+  std::vector<std::array<std::uint32_t, 2>> edges_;  // the triangles' edges, each once
   std::vector<ForceField> fields_;
   std::vector<Obstacle> obstacles_;
   std::vector<MovingObstacle> moving_;
+  std::vector<Attachment> attachments_;
+  std::vector<Vec3> attachmentPositions_, attachmentVelocities_, attachmentImpulses_;
+  std::vector<std::uint8_t> attachmentMoved_;
+  std::vector<ObstacleImpulse> obstacleImpulses_;
   std::vector<TearEvent> tearEvents_;
   std::unique_ptr<Scratch> scratch_;
-  ode::LinearSolveReport lastSolve_{};
+  ImplicitSolveReport lastSolve_{};
   double time_ = 0;
 };
 

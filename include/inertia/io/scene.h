@@ -54,6 +54,9 @@ struct DeformableDesc {
   DeformableSettings settings;
   MassSpringModel model;
   std::vector<ForceField> fields;
+  /// Attachments; their `body` is filled in by instantiate() from bodyNames (same order).
+  std::vector<Attachment> attachments;
+  std::vector<std::string> attachmentBodies;
 };
 
 /// A joint as described in a scene: its settings, with the bodies given as indices into

@@ -38,6 +38,11 @@ struct MovingObstacle {
   Vec3 linearVelocity = Vec3::Zero();   ///< Velocity of `center` (m/s).
   Vec3 angularVelocity = Vec3::Zero();  ///< rad/s
   Vec3 center = Vec3::Zero();           ///< Reference point of linearVelocity (m, world).
+  /// The body's inverse mass (1/kg) and inverse inertia about `center` (world, 1/(kg m^2)),
+  /// for two-way contacts (deformables); 0 for static and kinematic bodies and for particles,
+  /// which push nothing.
+  Real inverseMass = 0;
+  Mat3 inverseInertia = Mat3::Zero();
 };
 
 /// A damped spring between two particles (seed 002's n-ary forces):

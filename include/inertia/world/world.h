@@ -229,6 +229,8 @@ class World {
   const ArticulationSlot& articulationSlot(ArticulationId id) const;
   void followArticulation(const ArticulationSlot& slot);
   std::vector<ArticulationSlot> articulationSlots_;
+  void moveAttachments(Deformable& d, Real dt);
+  bool pushBodies(const Deformable& d);
   WorldSettings settings_;
   // The world's threads: never more than settings.threads, so that results can be checked
   // across thread counts.
@@ -241,6 +243,8 @@ class World {
   std::int64_t steps_ = 0;
   PhaseTimes phases_;
   std::vector<MovingObstacle> bodyObstacles_;  // scratch of step(), reused
+  std::vector<BodyId> obstacleBodies_;         // the body of each of bodyObstacles_
+  std::vector<Deformable*> colliding_;         // deformables with self-collision, per step
 };
 
 }  // namespace inertia
