@@ -58,6 +58,8 @@ struct PyWorld {
   // written only while holding the GIL, so the check below cannot race with it.
   bool stepping = false;
   std::optional<Recipe> recipe;
+  /// Tells this world from every other of the process (for snapshots and their recipes).
+  std::uint64_t serial = nextSerial();
 
   /// The world, to read from Python: RuntimeError while another thread steps it (instead of a
   /// data race that could crash).
@@ -71,6 +73,10 @@ struct PyWorld {
     return w;
   }
   World& operator*() { return *operator->(); }
+  static std::uint64_t nextSerial() {
+    static std::uint64_t last = 0;  // only touched with the GIL held
+    return ++last;
+  }
   /// The world to step, keeping the recipe (the step is recorded in it).
   World& get() const {
     if (stepping) throw std::runtime_error("World: another thread is stepping it");

@@ -97,6 +97,24 @@ std::string readFile(const std::string& path) {
 
 // Pickling: a World pickles as its recipe (version 1: scene, name, dt, threads, gravity,
 // calls); one built or changed through the API cannot be pickled.
+// A snapshot, and the world it came from and that world's recipe at the time.
+struct PyState {
+  World::State state;
+  std::uint64_t world = 0;  // PyWorld::serial
+  std::optional<Recipe> recipe;
+};
+
+void restoreState(PyWorld& w, const PyState& s) {
+  World& world = w.get();
+  world.restoreState(s.state);
+  // The snapshot holds every body, joint and contact and the clock, but not the particle
+  // systems or deformables, nor the settings (which belong to the world): the recipe at the
+  // snapshot describes the world again only for its own snapshot and with neither of those.
+  const bool whole =
+      s.world == w.serial && world.particleSystems().empty() && world.deformables().empty();
+  w.recipe = whole ? s.recipe : std::nullopt;
+}
+
 py::tuple pickleWorld(const PyWorld& w) {
   w.get();  // RuntimeError while another thread steps it
   if (!w.recipe)
@@ -177,13 +195,13 @@ void bindWorld(py::module_& m) {
       .value("KINEMATIC", BodyType::Kinematic, "Moved by the velocity it is given; not pushed.")
       .value("DYNAMIC", BodyType::Dynamic, "Moved by forces, gravity and contacts.");
 
-  py::class_<World::State>(m, "WorldState",
-                           "A snapshot of a world's rigid bodies and clock (save_state); "
-                           "restore_state continues from it bit-identically. Particle systems "
-                           "are not included.")
+  py::class_<PyState>(m, "WorldState",
+                      "A snapshot of a world's rigid bodies and clock (save_state); "
+                      "restore_state continues from it bit-identically. Particle systems "
+                      "are not included.")
       .def_property_readonly(
-          "time", [](const World::State& s) { return s.time; }, "Simulated time (s).")
-      .def_property_readonly("step_count", [](const World::State& s) { return s.steps; });
+          "time", [](const PyState& s) { return s.state.time; }, "Simulated time (s).")
+      .def_property_readonly("step_count", [](const PyState& s) { return s.state.steps; });
 
   py::class_<ContactInfo>(m, "Contact", "A contact manifold between two shapes after a step.")
       .def_readonly("body_a", &ContactInfo::bodyA)
@@ -607,11 +625,16 @@ void bindWorld(py::module_& m) {
           "The first shape hit by the ray from origin (m) along direction within max_distance "
           "(m), or None.")
       .def(
-          "save_state", [](const PyWorld& w) { return w->saveState(); },
-          "A snapshot of the bodies, joints, contacts and clock (not the particle systems).")
-      .def(
-          "restore_state", [](PyWorld& w, const World::State& s) { w->restoreState(s); },
-          py::arg("state"), "Continues from a snapshot bit-identically.")
+          "save_state",
+          [](const PyWorld& w) {
+            return PyState{w->saveState(), w.serial, w.recipe};
+          },
+          "A snapshot of the bodies, joints, contacts and clock (not the particle systems or "
+          "deformables).")
+      .def("restore_state", &restoreState, py::arg("state"),
+           "Continues from a snapshot bit-identically. A world restored to its own snapshot, "
+           "without particle systems or deformables, pickles as it did when the snapshot was "
+           "taken.")
       .def(py::pickle(&pickleWorld, &unpickleWorld));
 
   m.def(

@@ -71,6 +71,22 @@ def test_worlds_changed_through_the_api_refuse_to_pickle():
     pickle.dumps(world)
 
 
+def test_a_world_restored_to_its_own_snapshot_pickles_as_then():
+    world = inertia.load_scene(PENDULUMS)
+    run(world, 5)
+    saved = world.save_state()
+    run(world, 5)
+    world.apply_force(world.bodies()[-1], (1, 0, 0))  # changed: no longer its scene's replay
+    world.restore_state(saved)                         # but the snapshot's world is
+    back = pickle.loads(pickle.dumps(world))
+    assert back.step_count == 5 and run(back, 10) == run(world, 10)
+    # Another world's snapshot: this world's settings with that world's bodies, no recipe.
+    other = inertia.load_scene(PENDULUMS)
+    other.restore_state(saved)
+    with pytest.raises(TypeError, match="built or changed"):
+        pickle.dumps(other)
+
+
 def test_bad_pickled_states_raise():
     world = inertia.load_scene(PENDULUMS)
     cls, args, state = world.__reduce_ex__(2)[:3]
