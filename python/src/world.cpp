@@ -264,10 +264,12 @@ void bindWorld(py::module_& m) {
           "Unit surface normal at the hit.");
 
   py::class_<PyWorld> world(m, "World",
-                            "A simulation world: rigid bodies, joints and particle systems stepped "
-                            "with a fixed time step. Deterministic at any thread count. It "
-                            "steps without the GIL; while it does, its methods called from "
-                            "other threads raise RuntimeError.");
+                            "A simulation world: rigid bodies, joints, particle systems and "
+                            "deformables stepped with a fixed time step. Deterministic at any "
+                            "thread count. It steps without the GIL; while it does, its methods "
+                            "called from other threads raise RuntimeError. A world made from a "
+                            "scene pickles (as the scene and the steps taken, replayed on "
+                            "unpickling) until it is changed from Python.");
   world.def(
       py::init([](py::handle gravity, Real dt, int substeps, const std::string& solver,
                   int iterations, int relaxIterations, const std::string& integrator, int threads,
