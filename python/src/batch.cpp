@@ -144,13 +144,17 @@ std::vector<py::object> makeWorlds(py::handle scenes, std::optional<std::size_t>
     which.assign(n.value_or(1), 0);
   }
   std::vector<io::Scene> parsed;
-  for (const auto& [text, name] : texts) parsed.push_back(io::parseScene(text, name));
+  std::vector<std::shared_ptr<const std::string>> shared;  // one copy of each text
+  for (const auto& [text, name] : texts) {
+    parsed.push_back(io::parseScene(text, name));
+    shared.push_back(std::make_shared<const std::string>(text));
+  }
   std::optional<RealArray> g;
   if (!gravity.is_none()) g = toMatrix(gravity, "gravity", py::ssize_t(which.size()), 3);
   std::vector<py::object> worlds;
   for (std::size_t i = 0; i < which.size(); ++i) {
     // Each world remembers its scene (and the steps the batch takes) so that it pickles.
-    Recipe r{texts[which[i]].first, texts[which[i]].second, std::nullopt, 1, std::nullopt, {}};
+    Recipe r{shared[which[i]], texts[which[i]].second, std::nullopt, 1, std::nullopt, {}};
     if (g)
       r.gravity =
           Vec3(g->at(py::ssize_t(i), 0), g->at(py::ssize_t(i), 1), g->at(py::ssize_t(i), 2));

@@ -25,7 +25,8 @@ namespace py = pybind11;
 /// steps taken since, replayed on unpickling (the library is deterministic, so the replay gives
 /// the same bytes). A world built or changed through the API has none.
 struct Recipe {
-  std::string scene;  // the scene's JSON text
+  // The scene's JSON text, shared by the worlds made from it (a Batch's thousands).
+  std::shared_ptr<const std::string> scene;
   std::string name;   // its file, for relative paths and messages
   std::optional<Real> dt;
   std::optional<int> threads;

@@ -81,7 +81,12 @@ Real* put(const Vec3& v, Real* out) {
 // A World from scene text and its recipe (which the world keeps until changed from Python).
 PyWorld fromScene(std::string text, std::string name, std::optional<Real> dt,
                   std::optional<int> threads) {
-  Recipe recipe{std::move(text), std::move(name), dt, threads, std::nullopt, {}};
+  Recipe recipe{std::make_shared<const std::string>(std::move(text)),
+                std::move(name),
+                dt,
+                threads,
+                std::nullopt,
+                {}};
   PyWorld w;
   w.world = recipe.make();
   w.recipe = std::move(recipe);
@@ -126,14 +131,14 @@ py::tuple pickleWorld(const PyWorld& w) {
   py::list calls;
   for (const Recipe::Call& c : r.calls) calls.append(py::make_tuple(c.value, c.maxSteps, c.repeat));
   py::object gravity = r.gravity ? py::object(fromVec3(*r.gravity)) : py::object(py::none());
-  return py::make_tuple(1, py::bytes(r.scene), r.name, r.dt, r.threads, gravity, calls);
+  return py::make_tuple(1, py::bytes(*r.scene), r.name, r.dt, r.threads, gravity, calls);
 }
 
 PyWorld unpickleWorld(const py::tuple& t) {
   if (t.size() != 7 || t[0].cast<int>() != 1)
     throw py::value_error("unpickling inertia.World: not a state this version wrote");
   Recipe r;
-  r.scene = t[1].cast<std::string>();
+  r.scene = std::make_shared<const std::string>(t[1].cast<std::string>());
   r.name = t[2].cast<std::string>();
   r.dt = t[3].cast<std::optional<Real>>();
   r.threads = t[4].cast<std::optional<int>>();
@@ -170,7 +175,7 @@ void Recipe::record(Real value, int maxSteps, std::int64_t times) {
 }
 
 std::unique_ptr<World> Recipe::make() const {
-  io::Scene s = io::parseScene(scene, name);
+  io::Scene s = io::parseScene(*scene, name);
   if (dt) s.world.dt = *dt;
   if (threads) s.world.threads = *threads;
   if (gravity) s.world.gravity = *gravity;
