@@ -12,6 +12,7 @@ Figures, not pass/fail; scripts/bench runs it.
 """
 
 import argparse
+import glob
 import os
 import sys
 import time
@@ -51,8 +52,32 @@ def step_overhead(calls):
           f"(a bare property read: {read * 1e6:.2f} us; goal: step below 2 us)")
 
 
+def thread_cpu_ticks():
+    """CPU time (clock ticks) of each thread of this process so far (Linux), by thread id."""
+    ticks = {}
+    for task in glob.glob("/proc/self/task/*/stat"):
+        try:
+            fields = open(task).read().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        ticks[task.split("/")[4]] = int(fields[11]) + int(fields[12])  # utime + stime
+    return ticks
+
+
+def work_split(batch, steps):
+    """How the CPU time of batch.step(steps) fell on the threads, largest first: evenly spread
+    work with no wall-clock gain means the machine had no idle core to give (other load)."""
+    before = thread_cpu_ticks()
+    batch.step(steps)
+    after = thread_cpu_ticks()
+    return sorted((t for t in (after[k] - before.get(k, 0) for k in after) if t), reverse=True)
+
+
 def batch_scaling(n, steps):
     cores = os.cpu_count() or 1
+    if hasattr(os, "getloadavg") and os.getloadavg()[0] > 0.5 * cores:
+        print(f"(load average {os.getloadavg()[0]:.1f} on {cores} cores: thread scaling below "
+              f"is limited by the other load; the CPU split shows whether the threads worked)")
     for name, scene in [("pendulum", PENDULUM), ("box on a plane", BOX_ON_PLANE)]:
         worlds = [inertia.parse_scene(scene, threads=1) for _ in range(n)]
 
@@ -66,8 +91,9 @@ def batch_scaling(n, steps):
         for threads in sorted({1, 2, cores}):
             batch = inertia.Batch(scene, n, threads=threads)
             rate = n * steps / best_of(3, lambda: batch.step(steps))
+            split = work_split(batch, steps) if os.path.isdir("/proc/self/task") else []
             print(f"  Batch at {threads:2d} threads: {rate:,.0f} world-steps/s "
-                  f"({rate / base:.2f} x the loop)")
+                  f"({rate / base:.2f} x the loop; CPU ticks per thread {split})")
 
 
 def sweep_throughput(scenes, steps):

@@ -8,10 +8,13 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <fstream>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bindings.h"
@@ -60,17 +63,21 @@ class Batch {
   void step(int steps) {
     if (steps < 0) argumentError("steps", "must be >= 0");
     checkIdle();
-    SteppingScope stepping(pyWorlds_);
-    py::gil_scoped_release release;
-    arena_.execute([&] {
-      // One world per task: worlds are small, and each costs about the same.
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, worlds_.size(), 1),
-                        [&](const tbb::blocked_range<std::size_t>& r) {
-                          for (std::size_t i = r.begin(); i != r.end(); ++i)
-                            for (int s = 0; s < steps; ++s)
-                              worlds_[i]->step(worlds_[i]->settings().dt);
-                        });
-    });
+    {
+      SteppingScope stepping(pyWorlds_);
+      py::gil_scoped_release release;
+      arena_.execute([&] {
+        // One world per task: worlds are small, and each costs about the same.
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, worlds_.size(), 1),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                            for (std::size_t i = r.begin(); i != r.end(); ++i)
+                              for (int s = 0; s < steps; ++s)
+                                worlds_[i]->step(worlds_[i]->settings().dt);
+                          });
+      });
+    }
+    for (PyWorld* w : pyWorlds_)
+      if (w->recipe && steps > 0) w->recipe->record(w->world->settings().dt, 0, steps);
   }
 
   // (N, bodies, cols) from each world's bodies in slot order.
@@ -95,6 +102,7 @@ class Batch {
     const Real* in = a.data();
     for (World* w : worlds_)
       for (BodyId id : w->rigidBodies().bodies()) set(*w, id, in), in += cols;
+    for (PyWorld* w : pyWorlds_) w->recipe.reset();  // changed from Python: not picklable
   }
 
  private:
@@ -110,36 +118,53 @@ Real* put(const Vec3& v, Real* out) {
   return out + 3;
 }
 
-io::Scene readScene(py::handle scene) {
-  if (py::isinstance<py::dict>(scene)) {
-    const std::string text = py::module_::import("json").attr("dumps")(scene).cast<std::string>();
-    return io::parseScene(text, "<scene>");
-  }
+// A scene's text and name (the file, for relative paths and messages), from a dict or a path.
+std::pair<std::string, std::string> readScene(py::handle scene) {
+  if (py::isinstance<py::dict>(scene))
+    return {py::module_::import("json").attr("dumps")(scene).cast<std::string>(), "<scene>"};
   // A path (str or os.PathLike).
-  return io::loadScene(
-      py::str(py::module_::import("os").attr("fspath")(scene)).cast<std::string>());
+  const std::string path =
+      py::str(py::module_::import("os").attr("fspath")(scene)).cast<std::string>();
+  io::loadScene(path);  // SceneError with the file and pointer, before the recipe's read
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return {text.str(), path};
 }
 
 std::vector<py::object> makeWorlds(py::handle scenes, std::optional<std::size_t> n,
                                    py::handle gravity) {
-  std::vector<io::Scene> list;
+  std::vector<std::pair<std::string, std::string>> texts;
+  std::vector<std::size_t> which;  // the text of each world
   if (py::isinstance<py::list>(scenes) || py::isinstance<py::tuple>(scenes)) {
     if (n) argumentError("n", "give n with one scene, not with a list of scenes");
-    for (py::handle s : scenes) list.push_back(readScene(s));
+    for (py::handle s : scenes) which.push_back(texts.size()), texts.push_back(readScene(s));
   } else {
-    io::Scene scene = readScene(scenes);
-    list.assign(n.value_or(1), scene);
+    texts.push_back(readScene(scenes));
+    which.assign(n.value_or(1), 0);
   }
-  if (!gravity.is_none()) {
-    RealArray g = toMatrix(gravity, "gravity", py::ssize_t(list.size()), 3);
-    for (std::size_t i = 0; i < list.size(); ++i)
-      list[i].world.gravity =
-          Vec3(g.at(py::ssize_t(i), 0), g.at(py::ssize_t(i), 1), g.at(py::ssize_t(i), 2));
+  std::vector<io::Scene> parsed;
+  std::vector<std::shared_ptr<const std::string>> shared;  // one copy of each text
+  for (const auto& [text, name] : texts) {
+    parsed.push_back(io::parseScene(text, name));
+    shared.push_back(std::make_shared<const std::string>(text));
   }
+  std::optional<RealArray> g;
+  if (!gravity.is_none()) g = toMatrix(gravity, "gravity", py::ssize_t(which.size()), 3);
   std::vector<py::object> worlds;
-  for (io::Scene& s : list) {
+  for (std::size_t i = 0; i < which.size(); ++i) {
+    // Each world remembers its scene (and the steps the batch takes) so that it pickles.
+    Recipe r{shared[which[i]], texts[which[i]].second, std::nullopt, 1, std::nullopt, {}};
+    if (g)
+      r.gravity =
+          Vec3(g->at(py::ssize_t(i), 0), g->at(py::ssize_t(i), 1), g->at(py::ssize_t(i), 2));
+    io::Scene s = parsed[which[i]];
     s.world.threads = 1;  // the batch shares the cores out among the worlds
-    worlds.push_back(py::cast(PyWorld{io::instantiate(s), {}}));
+    if (r.gravity) s.world.gravity = *r.gravity;
+    PyWorld w;
+    w.world = io::instantiate(s);
+    w.recipe = std::move(r);
+    worlds.push_back(py::cast(std::move(w)));
   }
   return worlds;
 }

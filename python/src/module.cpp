@@ -2,6 +2,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <cstddef>
 #include <string>
 
 #include "bindings.h"
@@ -35,13 +36,40 @@ void bindId(py::module_& m, const char* name, const char* doc) {
                       }));
 }
 
+// pybind11 gives an object made by Class.__new__(Class) without __init__ uninitialised memory
+// as its value when a method is first called on it (type_caster_generic::load_value's "lazy
+// allocation"), and the method would then run on garbage: a crash. It allocates that memory with
+// the type's operator_new when one is set, and nothing else calls operator_new, so setting it
+// to this function turns the crash into a TypeError. (Pickling's __setstate__ and __init__
+// construct in place and never reach it.)
+void* refuseUninitialised(std::size_t) {
+  throw py::type_error(
+      "this inertia object was made with __new__ and never initialised: make it by calling its "
+      "class (inertia.World(...), ...)");
+}
+
+void guardUninitialised(py::handle scope, int depth = 0) {
+  if (depth > 2) return;
+  for (const auto& [name, value] : py::dict(scope.attr("__dict__"))) {
+    if (!PyType_Check(value.ptr()) || name.cast<std::string>().starts_with("__")) continue;
+    auto* type = reinterpret_cast<PyTypeObject*>(value.ptr());
+    if (py::detail::type_info* info = py::detail::get_type_info(type)) {
+      info->operator_new = &refuseUninitialised;
+      guardUninitialised(value, depth + 1);  // nested classes
+    }
+  }
+}
+
 }  // namespace
+
+void guardModuleClasses(py::module_& m) { guardUninitialised(m); }
 
 void bindIds(py::module_& m) {
   bindId<BodyTag>(m, "BodyId", "A rigid body of a World (a small value: index and generation).");
   bindId<ShapeTag>(m, "ShapeId", "A shape attached to a body.");
   bindId<JointTag>(m, "JointId", "A joint between two bodies, or a body and the world.");
   bindId<ParticleSystemTag>(m, "ParticleSystemId", "A particle system of a World.");
+  bindId<DeformableTag>(m, "DeformableId", "A deformable (rope, cloth, soft body) of a World.");
 }
 
 }  // namespace inertia::python
@@ -74,5 +102,7 @@ PYBIND11_MODULE(_inertia, m) {
   python::bindWorld(m);
   python::bindJoints(m);
   python::bindParticles(m);
+  python::bindDeformables(m);
   python::bindBatch(m);
+  python::guardModuleClasses(m);  // last: every class is bound
 }

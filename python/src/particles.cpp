@@ -53,23 +53,36 @@ void rangeProperty(py::class_<EmitterSettings>& c, const char* name, Range Emitt
       [member, name](EmitterSettings& s, py::handle v) { s.*member = toRange(v, name); }, doc);
 }
 
+void writeRows(std::span<Real> dst, py::handle value, const char* arg, std::size_t n) {
+  RealArray a = toMatrix(value, arg, py::ssize_t(n), 3);
+  // The pool trusts its values (the library checks them where they enter: emitters); here
+  // they enter from Python.
+  if (!std::all_of(a.data(), a.data() + 3 * n, [](Real x) { return std::isfinite(x); }))
+    argumentError(arg, "values must be finite");
+  std::copy_n(a.data(), 3 * n, dst.data());
+}
+
+}  // namespace
+
+namespace {
+
 // A view's keeper: holds the World's Python object alive and counts the system's views.
 struct ViewKeeper {
   py::object world;
+  ViewCounts PyWorld::*counts;
   std::uint32_t slot;
 };
 
-// A read-only (n, cols) array over `data` (n * cols Reals of the system's pool). Read-only
-// because the pool trusts its values: a NaN written into it would reach the collision grid's
-// cell arithmetic (undefined behaviour); writes go through set_particle_*, which checks them.
-py::array poolView(py::object self, ParticleSystemId id, const Real* data, std::size_t n,
-                   py::ssize_t cols) {
+}  // namespace
+
+py::array countedView(py::object self, ViewCounts PyWorld::*counts, std::uint32_t slot,
+                      const Real* data, std::size_t n, py::ssize_t cols) {
   PyWorld& w = self.cast<PyWorld&>();
-  ++w.particleViews[id.index];
-  py::capsule keeper(new ViewKeeper{self, id.index}, [](void* p) {
+  ++(w.*counts)[slot];
+  py::capsule keeper(new ViewKeeper{self, counts, slot}, [](void* p) {
     auto* k = static_cast<ViewKeeper*>(p);
-    PyWorld& world = k->world.cast<PyWorld&>();
-    if (--world.particleViews[k->slot] == 0) world.particleViews.erase(k->slot);
+    ViewCounts& views = k->world.cast<PyWorld&>().*(k->counts);
+    if (--views[k->slot] == 0) views.erase(k->slot);
     delete k;
   });
   RealArray a =
@@ -82,16 +95,30 @@ py::array poolView(py::object self, ParticleSystemId id, const Real* data, std::
   return a;
 }
 
-void writeRows(std::span<Real> dst, py::handle value, const char* arg, std::size_t n) {
-  RealArray a = toMatrix(value, arg, py::ssize_t(n), 3);
-  // The pool trusts its values (the library checks them where they enter: emitters); here
-  // they enter from Python.
-  if (!std::all_of(a.data(), a.data() + 3 * n, [](Real x) { return std::isfinite(x); }))
-    argumentError(arg, "values must be finite");
-  std::copy_n(a.data(), 3 * n, dst.data());
+ForceField toForceField(py::handle field, py::handle region) {
+  ForceField f;
+  if (py::isinstance<GravityField>(field))
+    f.field = field.cast<GravityField>();
+  else if (py::isinstance<LinearDragField>(field))
+    f.field = field.cast<LinearDragField>();
+  else if (py::isinstance<QuadraticDragField>(field))
+    f.field = field.cast<QuadraticDragField>();
+  else if (py::isinstance<WindField>(field))
+    f.field = field.cast<WindField>();
+  else if (py::isinstance<VortexField>(field))
+    f.field = field.cast<VortexField>();
+  else if (py::isinstance<AttractorField>(field))
+    f.field = field.cast<AttractorField>();
+  else if (py::isinstance<TurbulenceField>(field))
+    f.field = field.cast<TurbulenceField>();
+  else
+    argumentError("field", "expected one of the inertia.*Field classes");
+  if (!region.is_none()) {
+    if (py::len(region) != 2) argumentError("region", "expected (lower, upper)");
+    f.region = Aabb{toVec3(region[py::int_(0)], "region"), toVec3(region[py::int_(1)], "region")};
+  }
+  return f;
 }
-
-}  // namespace
 
 void bindParticles(py::module_& m) {
   py::class_<EmitterSettings> emitter(
@@ -250,29 +277,7 @@ void bindParticles(py::module_& m) {
       .def(
           "add_field",
           [](PyWorld& w, ParticleSystemId id, py::handle field, py::handle region) {
-            ForceField f;
-            if (py::isinstance<GravityField>(field))
-              f.field = field.cast<GravityField>();
-            else if (py::isinstance<LinearDragField>(field))
-              f.field = field.cast<LinearDragField>();
-            else if (py::isinstance<QuadraticDragField>(field))
-              f.field = field.cast<QuadraticDragField>();
-            else if (py::isinstance<WindField>(field))
-              f.field = field.cast<WindField>();
-            else if (py::isinstance<VortexField>(field))
-              f.field = field.cast<VortexField>();
-            else if (py::isinstance<AttractorField>(field))
-              f.field = field.cast<AttractorField>();
-            else if (py::isinstance<TurbulenceField>(field))
-              f.field = field.cast<TurbulenceField>();
-            else
-              argumentError("field", "expected one of the inertia.*Field classes");
-            if (!region.is_none()) {
-              if (py::len(region) != 2) argumentError("region", "expected (lower, upper)");
-              f.region = Aabb{toVec3(region[py::int_(0)], "region"),
-                              toVec3(region[py::int_(1)], "region")};
-            }
-            return w->particleSystem(id).addField(f);
+            return w->particleSystem(id).addField(toForceField(field, region));
           },
           py::arg("system"), py::arg("field"), py::arg("region") = py::none(),
           "Adds a force field, optionally limited to the box region = (lower, upper) (m).")
@@ -304,8 +309,9 @@ void bindParticles(py::module_& m) {
       .def(
           "particle_positions",
           [](py::object self, ParticleSystemId id) {
-            ParticlePool& pool = self.cast<PyWorld&>()->particleSystem(id).pool();
-            return poolView(self, id, pool.positions().data(), pool.size(), 3);
+            const ParticlePool& pool = self.cast<const PyWorld&>()->particleSystem(id).pool();
+            return countedView(self, &PyWorld::particleViews, id.index, pool.positions().data(),
+                               pool.size(), 3);
           },
           py::arg("system"),
           "The live particles' positions (m), (n, 3): a read-only view of the pool's memory, "
@@ -314,16 +320,18 @@ void bindParticles(py::module_& m) {
       .def(
           "particle_velocities",
           [](py::object self, ParticleSystemId id) {
-            ParticlePool& pool = self.cast<PyWorld&>()->particleSystem(id).pool();
-            return poolView(self, id, pool.velocities().data(), pool.size(), 3);
+            const ParticlePool& pool = self.cast<const PyWorld&>()->particleSystem(id).pool();
+            return countedView(self, &PyWorld::particleViews, id.index, pool.velocities().data(),
+                               pool.size(), 3);
           },
           py::arg("system"),
           "The live particles' velocities (m/s), (n, 3): a read-only view, as positions.")
       .def(
           "particle_ages",
           [](py::object self, ParticleSystemId id) {
-            ParticlePool& pool = self.cast<PyWorld&>()->particleSystem(id).pool();
-            return poolView(self, id, pool.ages().data(), pool.size(), 1);
+            const ParticlePool& pool = self.cast<const PyWorld&>()->particleSystem(id).pool();
+            return countedView(self, &PyWorld::particleViews, id.index, pool.ages().data(),
+                               pool.size(), 1);
           },
           py::arg("system"), "Ages (s), (n,): a read-only view.")
       .def(

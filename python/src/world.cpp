@@ -3,9 +3,13 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <cstring>
+#include <fstream>
 #include <limits>
 #include <optional>
+#include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "bindings.h"
@@ -74,11 +78,77 @@ Real* put(const Vec3& v, Real* out) {
   return out + 3;
 }
 
-std::unique_ptr<World> instantiateWith(io::Scene scene, std::optional<Real> dt,
-                                       std::optional<int> threads) {
-  if (dt) scene.world.dt = *dt;
-  if (threads) scene.world.threads = *threads;
-  return io::instantiate(scene);
+// A World from scene text and its recipe (which the world keeps until changed from Python).
+PyWorld fromScene(std::string text, std::string name, std::optional<Real> dt,
+                  std::optional<int> threads) {
+  Recipe recipe{std::make_shared<const std::string>(std::move(text)),
+                std::move(name),
+                dt,
+                threads,
+                std::nullopt,
+                {}};
+  PyWorld w;
+  w.world = recipe.make();
+  w.recipe = std::move(recipe);
+  return w;
+}
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Pickling: a World pickles as its recipe (version 1: scene, name, dt, threads, gravity,
+// calls); one built or changed through the API cannot be pickled.
+// A snapshot, and the world it came from and that world's recipe at the time.
+struct PyState {
+  World::State state;
+  std::uint64_t world = 0;  // PyWorld::serial
+  std::optional<Recipe> recipe;
+};
+
+void restoreState(PyWorld& w, const PyState& s) {
+  World& world = w.get();
+  world.restoreState(s.state);
+  // The snapshot holds every body, joint, contact, particle system and deformable and the
+  // clock, but not the settings (which belong to the world): the recipe at the snapshot
+  // describes the world again only for its own snapshot.
+  w.recipe = s.world == w.serial ? s.recipe : std::nullopt;
+}
+
+py::tuple pickleWorld(const PyWorld& w) {
+  w.get();  // RuntimeError while another thread steps it
+  if (!w.recipe)
+    throw py::type_error(
+        "cannot pickle this inertia.World: it was built or changed through the API, and only "
+        "a world made from a scene (load_scene, parse_scene, Batch) and stepped since can be "
+        "rebuilt elsewhere (save_state and restore_state work within one process)");
+  const Recipe& r = *w.recipe;
+  py::list calls;
+  for (const Recipe::Call& c : r.calls) calls.append(py::make_tuple(c.value, c.maxSteps, c.repeat));
+  py::object gravity = r.gravity ? py::object(fromVec3(*r.gravity)) : py::object(py::none());
+  return py::make_tuple(1, py::bytes(*r.scene), r.name, r.dt, r.threads, gravity, calls);
+}
+
+PyWorld unpickleWorld(const py::tuple& t) {
+  if (t.size() != 7 || t[0].cast<int>() != 1)
+    throw py::value_error("unpickling inertia.World: not a state this version wrote");
+  Recipe r;
+  r.scene = std::make_shared<const std::string>(t[1].cast<std::string>());
+  r.name = t[2].cast<std::string>();
+  r.dt = t[3].cast<std::optional<Real>>();
+  r.threads = t[4].cast<std::optional<int>>();
+  if (!t[5].is_none()) r.gravity = toVec3(t[5], "gravity");
+  for (py::handle c : t[6].cast<py::list>()) {
+    const auto call = c.cast<std::tuple<Real, int, std::int64_t>>();
+    r.calls.push_back({std::get<0>(call), std::get<1>(call), std::get<2>(call)});
+  }
+  PyWorld w;
+  w.world = r.make();
+  w.recipe = std::move(r);
+  return w;
 }
 
 RealArray pointsOf(const ContactInfo& c, bool onA) {
@@ -94,6 +164,30 @@ RealArray pointsOf(const ContactInfo& c, bool onA) {
 
 }  // namespace
 
+void Recipe::record(Real value, int maxSteps, std::int64_t times) {
+  if (!calls.empty() && calls.back().maxSteps == maxSteps &&
+      std::memcmp(&calls.back().value, &value, sizeof(Real)) == 0)
+    calls.back().repeat += times;
+  else
+    calls.push_back({value, maxSteps, times});
+}
+
+std::unique_ptr<World> Recipe::make() const {
+  io::Scene s = io::parseScene(*scene, name);
+  if (dt) s.world.dt = *dt;
+  if (threads) s.world.threads = *threads;
+  if (gravity) s.world.gravity = *gravity;
+  std::unique_ptr<World> world = io::instantiate(s);
+  py::gil_scoped_release release;
+  for (const Call& c : calls)
+    for (std::int64_t i = 0; i < c.repeat; ++i)
+      if (c.maxSteps == 0)
+        world->step(c.value);
+      else
+        world->advance(c.value, c.maxSteps);
+  return world;
+}
+
 py::class_<PyWorld> worldClass(py::module_& m) {
   return py::reinterpret_borrow<py::class_<PyWorld>>(m.attr("World"));
 }
@@ -104,13 +198,13 @@ void bindWorld(py::module_& m) {
       .value("KINEMATIC", BodyType::Kinematic, "Moved by the velocity it is given; not pushed.")
       .value("DYNAMIC", BodyType::Dynamic, "Moved by forces, gravity and contacts.");
 
-  py::class_<World::State>(m, "WorldState",
-                           "A snapshot of a world's rigid bodies and clock (save_state); "
-                           "restore_state continues from it bit-identically. Particle systems "
-                           "are not included.")
+  py::class_<PyState>(m, "WorldState",
+                      "A snapshot of a world's rigid bodies, joints, contacts, particle "
+                      "systems, deformables and clock (save_state); restore_state continues "
+                      "from it bit-identically.")
       .def_property_readonly(
-          "time", [](const World::State& s) { return s.time; }, "Simulated time (s).")
-      .def_property_readonly("step_count", [](const World::State& s) { return s.steps; });
+          "time", [](const PyState& s) { return s.state.time; }, "Simulated time (s).")
+      .def_property_readonly("step_count", [](const PyState& s) { return s.state.steps; });
 
   py::class_<ContactInfo>(m, "Contact", "A contact manifold between two shapes after a step.")
       .def_readonly("body_a", &ContactInfo::bodyA)
@@ -173,18 +267,21 @@ void bindWorld(py::module_& m) {
           "Unit surface normal at the hit.");
 
   py::class_<PyWorld> world(m, "World",
-                            "A simulation world: rigid bodies, joints and particle systems stepped "
-                            "with a fixed time step. Deterministic at any thread count. It "
-                            "steps without the GIL; while it does, its methods called from "
-                            "other threads raise RuntimeError.");
+                            "A simulation world: rigid bodies, joints, particle systems and "
+                            "deformables stepped with a fixed time step. Deterministic at any "
+                            "thread count. It steps without the GIL; while it does, its methods "
+                            "called from other threads raise RuntimeError. A world made from a "
+                            "scene pickles (as the scene and the steps taken, replayed on "
+                            "unpickling) until it is changed from Python.");
   world.def(
       py::init([](py::handle gravity, Real dt, int substeps, const std::string& solver,
                   int iterations, int relaxIterations, const std::string& integrator, int threads,
                   bool sleeping) {
-        return PyWorld{
+        PyWorld w;
+        w.world =
             std::make_unique<World>(makeSettings(gravity, dt, substeps, solver, iterations,
-                                                 relaxIterations, integrator, threads, sleeping)),
-            {}};
+                                                 relaxIterations, integrator, threads, sleeping));
+        return w;
       }),
       py::kw_only(), py::arg("gravity") = py::make_tuple(0, -9.81, 0), py::arg("dt") = 1.0 / 60,
       py::arg("substeps") = 4, py::arg("solver") = "soft_step", py::arg("iterations") = 4,
@@ -214,21 +311,29 @@ void bindWorld(py::module_& m) {
       .def(
           "step",
           [](PyWorld& w, std::optional<Real> dt) {
-            const Real h = dt.value_or(w->settings().dt);
-            World& world = *w;
-            SteppingScope stepping(w);
-            py::gil_scoped_release release;  // the library checks h (InvalidArgument)
-            world.step(h);
+            World& world = w.get();
+            const Real h = dt.value_or(world.settings().dt);
+            {
+              SteppingScope stepping(w);
+              py::gil_scoped_release release;  // the library checks h (InvalidArgument)
+              world.step(h);
+            }
+            if (w.recipe) w.recipe->record(h, 0);
           },
           py::arg("dt") = py::none(),
           "Advances by exactly dt seconds (default: the world's dt), in substeps.")
       .def(
           "advance",
           [](PyWorld& w, Real frameTime, int maxSteps) {
-            World& world = *w;
-            SteppingScope stepping(w);
-            py::gil_scoped_release release;  // the library checks its arguments
-            return world.advance(frameTime, maxSteps);
+            World& world = w.get();
+            int taken = 0;
+            {
+              SteppingScope stepping(w);
+              py::gil_scoped_release release;  // the library checks its arguments
+              taken = world.advance(frameTime, maxSteps);
+            }
+            if (w.recipe) w.recipe->record(frameTime, maxSteps);
+            return taken;
           },
           py::arg("frame_time"), py::arg("max_steps") = 8,
           "Advances a frame of frame_time seconds in fixed steps of dt with an accumulator; at "
@@ -288,6 +393,7 @@ void bindWorld(py::module_& m) {
       .def("is_valid", [](const PyWorld& w, BodyId id) { return w->isValid(id); })
       .def("is_valid", [](const PyWorld& w, JointId id) { return w->isValid(id); })
       .def("is_valid", [](const PyWorld& w, ParticleSystemId id) { return w->isValid(id); })
+      .def("is_valid", [](const PyWorld& w, DeformableId id) { return w->isValid(id); })
       .def(
           "bodies", [](const PyWorld& w) { return bodyList(*w); },
           "The live bodies in slot order: the order of the state arrays.")
@@ -524,16 +630,21 @@ void bindWorld(py::module_& m) {
           "The first shape hit by the ray from origin (m) along direction within max_distance "
           "(m), or None.")
       .def(
-          "save_state", [](const PyWorld& w) { return w->saveState(); },
+          "save_state",
+          [](const PyWorld& w) {
+            return PyState{w->saveState(), w.serial, w.recipe};
+          },
           "A snapshot of the bodies, joints, contacts, particle systems, deformables and clock.")
-      .def(
-          "restore_state", [](PyWorld& w, const World::State& s) { w->restoreState(s); },
-          py::arg("state"), "Continues from a snapshot bit-identically.");
+      .def("restore_state", &restoreState, py::arg("state"),
+           "Continues from a snapshot bit-identically. A world restored to its own snapshot "
+           "pickles as it did when the snapshot was taken.")
+      .def(py::pickle(&pickleWorld, &unpickleWorld));
 
   m.def(
       "load_scene",
       [](const std::string& path, std::optional<Real> dt, std::optional<int> threads) {
-        return PyWorld{instantiateWith(io::loadScene(path), dt, threads), {}};
+        io::loadScene(path);  // SceneError with the file and pointer, before the recipe's read
+        return fromScene(readFile(path), path, dt, threads);
       },
       py::arg("path"), py::kw_only(), py::arg("dt") = py::none(), py::arg("threads") = py::none(),
       "A World from a scene file (JSON, DESIGN.md section 4); dt (s) and threads override the "
@@ -548,7 +659,7 @@ void bindWorld(py::module_& m) {
           text = scene.cast<std::string>();
         else
           text = py::module_::import("json").attr("dumps")(scene).cast<std::string>();
-        return PyWorld{instantiateWith(io::parseScene(text, name), dt, threads), {}};
+        return fromScene(std::move(text), name, dt, threads);
       },
       py::arg("scene"), py::arg("name") = "<scene>", py::kw_only(), py::arg("dt") = py::none(),
       py::arg("threads") = py::none(),
