@@ -274,6 +274,12 @@ PhaseTimes World::phaseTimes() const {
 }
 
 World::State World::saveState() const {
+  // Articulations' joint coordinates are not in a State yet: refuse rather than restore their
+  // link bodies without them.
+  for (const ArticulationSlot& slot : articulationSlots_)
+    require(!slot.articulation,
+            "World::saveState: a world with articulations cannot be saved yet (articulation '" +
+                slot.name + "')");
   State state{bodies_, {}, {}, time_, accumulator_, steps_};
   for (const ParticleSlot& slot : particleSlots_)
     state.particleSystems.emplace_back(

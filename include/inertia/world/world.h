@@ -187,7 +187,7 @@ class World {
 
   /// A copy of everything the world simulates: the rigid bodies with their shapes, contacts
   /// and joints, every particle system and deformable (in its slot, so ids stay valid), and
-  /// the clock (not the articulations yet: do not save a world with articulations).
+  /// the clock. A world with articulations cannot be saved yet (InvalidArgument).
   /// restoreState() continues from it bit-identically. A State is immutable and
   /// cheap to copy (the systems are shared between copies).
   struct State {
