@@ -17,8 +17,8 @@
 // x1 = x0 + h u. Candidate pairs come from the collision layer's dynamic AABB tree over the
 // features' swept boxes.
 #include <algorithm>
-#include <numeric>
 
+#include "core/union_find.h"
 #include "deformable/scratch.h"
 #include "inertia/collision/continuous_triangle.h"
 #include "inertia/collision/dynamic_tree.h"
@@ -168,23 +168,15 @@ bool resolveImpacts(Stage& s) {
   return false;
 }
 
-std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t i) {
-  while (parent[i] != i) i = parent[i] = parent[parent[i]];
-  return i;
-}
-
 // Stage 3: impact zones moving as one (see the file comment).
 void impactZones(Stage& s) {
   const std::size_t n = s.x0.size();
-  std::vector<std::uint32_t> parent(n);
-  std::iota(parent.begin(), parent.end(), 0u);
+  detail::UnionFind zones;
+  zones.reset(n);
   for (int round = 0; round < kZoneRounds; ++round) {
     bool merged = false;
     forEachCollision(s, [&](const auto& ids, const auto&, const Vec3&) {
-      for (std::uint32_t k : ids) {
-        const std::uint32_t a = findRoot(parent, ids[0]), b = findRoot(parent, k);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b), merged = true;
-      }
+      for (std::uint32_t k : ids) merged = zones.unite(ids[0], k) || merged;
     });
     // None left, or only pairs inside zones, which move rigidly and so cannot cross (what is
     // left is the test's tolerance on pairs that start within it of each other).
@@ -194,7 +186,7 @@ void impactZones(Stage& s) {
     std::vector<Real> mass(n, 0);
     std::vector<std::uint8_t> held(n, 0), zone(n, 0);
     for (std::uint32_t i = 0; i < n; ++i) {
-      const std::uint32_t r = findRoot(parent, i);
+      const std::uint32_t r = zones.find(i);
       if (r != i) zone[r] = zone[i] = 1;
       if (s.inverseMass[i] == 0) {
         held[r] = 1;
@@ -204,7 +196,7 @@ void impactZones(Stage& s) {
       momentum[r] += s.u[i] / s.inverseMass[i];
     }
     for (std::uint32_t i = 0; i < n; ++i) {
-      const std::uint32_t r = findRoot(parent, i);
+      const std::uint32_t r = zones.find(i);
       if (!zone[r]) continue;
       s.u[i] = held[r] ? Vec3::Zero() : Vec3(momentum[r] / mass[r]);
     }

@@ -7,16 +7,6 @@
 
 namespace inertia::detail {
 
-void UnionFind::reset(std::size_t n) {
-  parent_.resize(n);
-  std::iota(parent_.begin(), parent_.end(), 0u);
-}
-
-void UnionFind::unite(std::uint32_t a, std::uint32_t b) {
-  const std::uint32_t ra = find(a), rb = find(b);
-  if (ra != rb) parent_[std::max(ra, rb)] = std::min(ra, rb);
-}
-
 void groupConstraints(std::span<const GraphEdge> edges, std::size_t bodyCount,
                       ConstraintIslands& out) {
   out.sets.reset(bodyCount);

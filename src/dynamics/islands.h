@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "constraint_graph.h"
+#include "core/union_find.h"
 
 namespace inertia {
 struct DynamicsSettings;
@@ -20,24 +21,6 @@ struct DynamicsSettings;
 namespace inertia::detail {
 
 struct RigidBodyData;
-
-/// Disjoint sets over nodes 0..n-1 (path halving; the smaller root wins a union, so the
-/// roots do not depend on the order of the unions' arguments).
-class UnionFind {
- public:
-  void reset(std::size_t n);
-  std::uint32_t find(std::uint32_t i) {
-    while (parent_[i] != i) {
-      parent_[i] = parent_[parent_[i]];
-      i = parent_[i];
-    }
-    return i;
-  }
-  void unite(std::uint32_t a, std::uint32_t b);
-
- private:
-  std::vector<std::uint32_t> parent_;
-};
 
 /// Constraints grouped into islands: island i is constraints[offsets[i], offsets[i + 1]), the
 /// islands in the order of their first constraint, each constraint's index in order.
