@@ -55,8 +55,7 @@ void StepWorkers::start(tbb::task_arena* arena, DriverFn driver, void* ctx) {
       error = std::current_exception();
     }
     claim_.store(std::uint64_t(kExit) << 32, std::memory_order_release);
-    posted_.store(kExit, std::memory_order_release);
-    posted_.notify_all();
+    publish(kExit);
     group.wait();
     if (error) std::rethrow_exception(error);
   });
@@ -73,8 +72,7 @@ void StepWorkers::post(BlockFn fn, void* ctx, std::uint32_t blocks) {
   done_.store(0, std::memory_order_relaxed);
   const std::uint32_t epoch = ++epoch_;
   claim_.store(std::uint64_t(epoch) << 32, std::memory_order_release);
-  posted_.store(epoch, std::memory_order_release);
-  posted_.notify_all();
+  publish(epoch);
   runBlocks(epoch);
   int spins = 0;
   while (done_.load(std::memory_order_acquire) != blocks) backoff(spins);
@@ -82,6 +80,15 @@ void StepWorkers::post(BlockFn fn, void* ctx, std::uint32_t blocks) {
   // exception goes on from the main worker, which ends the step.
   if (failed_.exchange(false, std::memory_order_acq_rel))
     std::rethrow_exception(std::exchange(error_, nullptr));
+}
+
+// Publishes an epoch and wakes the sleeping helpers. A helper tests the epoch under the mutex
+// before it sleeps, and the epoch is stored before the mutex is taken here, so no helper can
+// sleep on an epoch already past.
+void StepWorkers::publish(std::uint32_t epoch) {
+  posted_.store(epoch, std::memory_order_release);
+  { const std::lock_guard<std::mutex> lock(sleepMutex_); }
+  sleep_.notify_all();
 }
 
 void StepWorkers::helperLoop() {
@@ -92,10 +99,12 @@ void StepWorkers::helperLoop() {
     // Spin through the short gaps between stages; sleep through the main worker's long
     // serial stages (a futex), so an idle helper leaves its core to others.
     while ((epoch = posted_.load(std::memory_order_acquire)) == seen) {
-      if (spins < kSpins)
+      if (spins < kSpins) {
         backoff(spins);
-      else
-        posted_.wait(seen, std::memory_order_acquire);
+      } else {
+        std::unique_lock<std::mutex> lock(sleepMutex_);
+        sleep_.wait(lock, [&] { return posted_.load(std::memory_order_acquire) != seen; });
+      }
     }
     if (epoch == kExit) return;
     seen = epoch;

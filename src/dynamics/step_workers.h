@@ -16,9 +16,11 @@
 #include <tbb/task_arena.h>
 
 #include <atomic>
+#include <condition_variable>
 #include <cstddef>
 #include <cstdint>
 #include <exception>
+#include <mutex>
 #include <type_traits>
 #include <utility>
 
@@ -101,8 +103,13 @@ class StepWorkers {
   std::atomic<void*> ctx_{nullptr};
   std::atomic<std::uint32_t> blocks_{0};
   alignas(64) std::atomic<std::uint32_t> done_{0};
-  // The last posted epoch, on which idle helpers sleep (a futex).
+  // The last posted epoch. Idle helpers sleep on sleep_ until it changes: a condition variable
+  // with its mutex, not std::atomic::wait, whose notify in Debian 12's libstdc++ (GCC 12) was
+  // seen to lose a wakeup (a helper asleep on an epoch already past, the step never ending).
   alignas(64) std::atomic<std::uint32_t> posted_{0};
+  std::mutex sleepMutex_;
+  std::condition_variable sleep_;
+  void publish(std::uint32_t epoch);
   // The first exception a block threw, on whichever worker; rethrown by the main worker when
   // the stage is done.
   std::atomic<bool> failed_{false};
