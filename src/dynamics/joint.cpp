@@ -142,10 +142,10 @@ std::string_view jointTypeName(JointType type) {
 namespace {
 
 JointId addJoint(Data& D, JointRecord&& record) {
-  // The first free slot (none while every slot is live: the common case, without a search).
-  std::uint32_t slot =
-      std::uint32_t(D.liveJoints) == D.joints.size() ? std::uint32_t(D.joints.size()) : 0;
+  // The lowest free slot, searched from the lowest that may be free (as for bodies).
+  std::uint32_t slot = D.firstFreeJoint;
   while (slot < D.joints.size() && D.joints[slot].alive) ++slot;
+  D.firstFreeJoint = slot + 1;
   if (slot == D.joints.size()) D.joints.emplace_back();
   record.generation = D.joints[slot].generation;
   record.alive = true;
@@ -327,6 +327,7 @@ void RigidBodySystem::destroyJoint(JointId id) {
   j = JointRecord{};
   j.generation = generation;
   --D.liveJoints;
+  D.firstFreeJoint = std::min(D.firstFreeJoint, slot);
 }
 
 bool RigidBodySystem::isValid(JointId id) const { return d_->isValidJoint(id); }

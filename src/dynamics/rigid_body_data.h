@@ -222,7 +222,7 @@ struct RigidBodyData {
   std::vector<ShapeRecord> shapes;
   // Every slot below these is alive: the search for the first free slot starts here, so that
   // creating n bodies costs O(n), not O(n^2) (100,000 bodies took minutes).
-  std::uint32_t firstFreeBody = 0, firstFreeShape = 0;
+  std::uint32_t firstFreeBody = 0, firstFreeShape = 0, firstFreeJoint = 0;
   // The broad phase's proxies carry their shape's index; planes are unbounded and kept apart.
   BroadPhase broadPhase{{.tree = {.margin = Real(0.05), .displacementMultiplier = 2}}};
   std::vector<std::uint32_t> planes;  // shape indices of planes

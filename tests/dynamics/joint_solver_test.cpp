@@ -550,6 +550,28 @@ TEST(JointWorld, RestoredStateContinuesBitIdentically) {
   EXPECT_EQ(0, std::memcmp(first.q.coeffs().data(), again.q.coeffs().data(), sizeof(Real) * 4));
 }
 
+// A destroyed joint's slot is taken by the next joint, lowest slot first, under a new
+// generation; the stale id stays invalid. (The search starts at the lowest slot that may be
+// free, as for bodies and shapes, rather than at slot 0.)
+TEST(JointWorld, DestroyedSlotsAreReusedLowestFirst) {
+  World world(quietWorld());
+  const BodyId bob = world.createBody({.position = Vec3(0, -1, 0)});
+  world.addShape(bob, Sphere{Real(0.1)});
+  auto make = [&] { return world.createJoint(BallJointSettings{.bodyB = bob}); };
+  std::vector<JointId> ids;
+  for (int i = 0; i < 4; ++i) ids.push_back(make());
+  world.destroyJoint(ids[2]);
+  world.destroyJoint(ids[1]);
+  const JointId first = make(), second = make(), third = make();
+  EXPECT_EQ(first.index, ids[1].index);
+  EXPECT_EQ(second.index, ids[2].index);
+  EXPECT_EQ(third.index, 4u);
+  EXPECT_NE(first.generation, ids[1].generation);
+  EXPECT_FALSE(world.rigidBodies().isValid(ids[1]));
+  EXPECT_TRUE(world.rigidBodies().isValid(first));
+  EXPECT_EQ(world.rigidBodies().jointCount(), 5);
+}
+
 // Jointed bodies are one island: a chain hanging at rest falls asleep whole, and a push on its
 // last link wakes every link.
 TEST(JointWorld, JointedBodiesSleepAndWakeTogether) {
