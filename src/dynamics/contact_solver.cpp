@@ -99,7 +99,7 @@ struct Kernels {
   void (*warmStart)(const WideConstraint*, std::size_t, SolverBody*);
   void (*solve)(WideConstraint*, std::size_t, SolverBody*, const BiasMode&);
   void (*beginApproach)(WideConstraint*, std::size_t, const SolverBody*);
-  void (*updateApproach)(WideConstraint*, std::size_t, const SolverBody*, Real);
+  void (*updateApproach)(WideConstraint*, std::size_t, const SolverBody*, Real, Real);
   void (*restitution)(WideConstraint*, std::size_t, SolverBody*, Real);
   void (*updateMotion)(WideConstraint*, std::size_t, const SolverBody*);
 };
@@ -331,11 +331,11 @@ void ContactBundles::beginApproach(const std::vector<SolverBody>& bodies, StepWo
   });
 }
 
-void ContactBundles::updateApproach(const std::vector<SolverBody>& bodies, Real h,
+void ContactBundles::updateApproach(const std::vector<SolverBody>& bodies, Real h, Real flight,
                                     StepWorkers& workers) {
   const Kernels& k = kernels();
   forAll(workers, [&](std::uint32_t first, std::size_t count) {
-    k.updateApproach(bundles_.data() + first, count, bodies.data(), 1 / h);
+    k.updateApproach(bundles_.data() + first, count, bodies.data(), 1 / h, flight);
   });
 }
 
@@ -394,8 +394,8 @@ void ContactBundles::beginApproach(const std::vector<SolverBody>& bodies) {
   StepWorkers::run(nullptr, [&](StepWorkers& w) { beginApproach(bodies, w); });
 }
 
-void ContactBundles::updateApproach(const std::vector<SolverBody>& bodies, Real h) {
-  StepWorkers::run(nullptr, [&](StepWorkers& w) { updateApproach(bodies, h, w); });
+void ContactBundles::updateApproach(const std::vector<SolverBody>& bodies, Real h, Real flight) {
+  StepWorkers::run(nullptr, [&](StepWorkers& w) { updateApproach(bodies, h, flight, w); });
 }
 
 void ContactBundles::applyRestitution(std::vector<SolverBody>& bodies, Real threshold,
@@ -435,8 +435,8 @@ void beginApproach(std::vector<ContactConstraint>& cs, const std::vector<SolverB
 }
 
 void updateApproach(std::vector<ContactConstraint>& cs, const std::vector<SolverBody>& bodies,
-                    Real h) {
-  runSequential(cs, bodies, [&](ContactBundles& b) { b.updateApproach(bodies, h); });
+                    Real h, Real flight) {
+  runSequential(cs, bodies, [&](ContactBundles& b) { b.updateApproach(bodies, h, flight); });
 }
 
 void applyRestitution(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,

@@ -209,9 +209,11 @@ class ContactBundles {
   /// makes it the speed at which the gap s closes under the substep's normal acceleration
   /// a = (v1 - v0) / h: v^2 = v0^2 - 2 a s. A point keeps the value of the substep in which it
   /// first pushes, i.e. touches. (The substep's velocity v1 would be up to |a| h off, and the
-  /// step's start velocity up to |a| dt.)
+  /// step's start velocity up to |a| dt.) `flight` is the lag of the free flight's integrator
+  /// (flightLag): restitution then acts on the energy that integrator conserves.
   void beginApproach(const std::vector<SolverBody>& bodies, StepWorkers& workers);
-  void updateApproach(const std::vector<SolverBody>& bodies, Real h, StepWorkers& workers);
+  void updateApproach(const std::vector<SolverBody>& bodies, Real h, Real flight,
+                      StepWorkers& workers);
   /// Newton's impact law after the substeps: points that approached faster than `threshold`
   /// (m/s) and carried an impulse leave with restitution times their approach speed.
   void applyRestitution(std::vector<SolverBody>& bodies, Real threshold, StepWorkers& workers);
@@ -237,7 +239,7 @@ class ContactBundles {
   void warmStart(std::vector<SolverBody>& bodies, tbb::task_arena* arena) const;
   void solve(std::vector<SolverBody>& bodies, const BiasMode& mode, tbb::task_arena* arena);
   void beginApproach(const std::vector<SolverBody>& bodies);
-  void updateApproach(const std::vector<SolverBody>& bodies, Real h);
+  void updateApproach(const std::vector<SolverBody>& bodies, Real h, Real flight);
   void applyRestitution(std::vector<SolverBody>& bodies, Real threshold, tbb::task_arena* arena);
   void store(std::vector<ContactConstraint>& cs) const;
 
@@ -274,7 +276,7 @@ void solve(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
            const BiasMode& mode);
 void beginApproach(std::vector<ContactConstraint>& cs, const std::vector<SolverBody>& bodies);
 void updateApproach(std::vector<ContactConstraint>& cs, const std::vector<SolverBody>& bodies,
-                    Real h);
+                    Real h, Real flight);
 void applyRestitution(std::vector<ContactConstraint>& cs, std::vector<SolverBody>& bodies,
                       Real threshold);
 

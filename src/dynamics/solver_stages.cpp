@@ -200,8 +200,8 @@ void forEachColor(Data& D, StepWorkers& workers, JointFn joint, ContactFn contac
   }
 }
 
-void warmStart(Data& D, int stamp, Real h, StepWorkers& workers) {
-  D.bundles.updateApproach(D.solverBodies, h, workers);
+void warmStart(Data& D, int stamp, Real h, Real flight, StepWorkers& workers) {
+  D.bundles.updateApproach(D.solverBodies, h, flight, workers);
   forEachColor(
       D, workers,
       [&](std::uint32_t k) { warmStartJoint(D, D.jointConstraints[k], D.solverBodies, stamp); },
@@ -332,6 +332,22 @@ bool isLcp(const DynamicsSettings& s) {
   return s.solver.type == SolverType::LcpDantzig || s.solver.type == SolverType::LcpLemke;
 }
 
+// The lag c / a of the free flight's method, whose modified energy under a constant
+// acceleration a is v^2 - 2 a y + a c v (updateApproachSlice): h for the methods that update
+// the position with the new velocity, -h for explicit Euler, which uses the old one, and 0 for
+// the methods exact under a constant acceleration.
+Real flightLag(ode::Method method, Real h) {
+  switch (method) {
+    case ode::Method::SymplecticEuler:
+    case ode::Method::BackwardEuler:
+      return h;
+    case ode::Method::ExplicitEuler:
+      return -h;
+    default:
+      return 0;
+  }
+}
+
 }  // namespace
 
 void prepareContacts(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& workers) {
@@ -419,6 +435,7 @@ double solveSubsteps(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
   relaxMode.useBias = false;
   JointPass jointSolve = jointPass(s, h, true);
   JointPass jointRelax = jointPass(s, h, false);
+  const Real flight = flightLag(s.integrator, h);
   double integrationTime = 0;
   for (int sub = 0; sub < s.substeps; ++sub) {
     // A joint's rows are made once per position update: the relaxation's, after this
@@ -437,10 +454,10 @@ double solveSubsteps(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
     integrationTime += std::chrono::duration<double>(Clock::now() - ti).count();
     if (lcp) {
       // Direct LCP per island in place of the warm start and iterations (lcp_contact.h).
-      updateApproach(D.constraints, D.solverBodies, h);
+      updateApproach(D.constraints, D.solverBodies, h, flight);
       solveIslandsLcp(D, mode, jointSolve, lcpMethod, s.solver.iterations);
     } else {
-      warmStart(D, jointSolve.stamp, h, workers);
+      warmStart(D, jointSolve.stamp, h, flight, workers);
       solve(D, mode, jointSolve, s.solver.iterations, workers);
     }
     ti = Clock::now();

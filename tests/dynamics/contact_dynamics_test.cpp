@@ -73,26 +73,26 @@ TEST(ContactDynamics, BounceRisesToRestitutionSquared) {
 // one at which the gap closes, v^2 = v0^2 + 2 g s from the substep's start, and relax leaves
 // open rows alone. Each substep count and eight phases (the drop height moved by eighths of
 // a step's fall), both iterative solvers:
-// - velocity Verlet in free flight (exact under gravity): the apex is e^2 h within 2%. What
-//   remains: steps near the ground are the solver's symplectic Euler (g h^2 / 2 a substep,
-//   1.3% at one substep) and the once-per-step sampling (g dt^2 / 8 = 0.3 mm);
-// - symplectic Euler, the default: it conserves v^2 + 2 g y - g h v, not the energy, so the
-//   impact speed is V = sqrt(2 g h) less g h / 2 and the launch of e V climbs g h e V / 2
-//   less: the apex is e^2 h - (e^2 + e) h V / 2 (2.8% below e^2 h at 4 substeps, 11% at
-//   one), within 2% of e^2 h (second-order terms, below 0.7%).
+// - velocity Verlet in free flight (exact under gravity): what remains are the steps near the
+//   ground, the solver's symplectic Euler (g h^2 / 2 a substep, 1.3% at one substep), and the
+//   once-per-step sampling (g dt^2 / 8 = 0.3 mm);
+// - symplectic Euler (the default) and explicit Euler conserve v^2 + 2 g y -+ g h v, not the
+//   energy: the impact speed is g h / 2 off sqrt(2 g h) and the launch of e V climbs g h e V / 2
+//   less or more. Restitution on that modified energy (flightLag) gives e^2 h back; without it
+//   symplectic Euler's apex was 2.8% low at 4 substeps and 11% at one.
+// The apex is e^2 h within 2% in every case but explicit Euler at one substep: the steps
+// around the impact are the solver's symplectic Euler whatever the flight's method, and at one
+// substep of 1/60 s that mix leaves its apex 2.2% low.
 TEST(ContactDynamics, BounceApexHoldsAtEveryImpactPhaseAndSubstepCount) {
   const Real e = Real(0.5), g = Real(9.81);
   for (SolverType solver : {SolverType::SoftStep, SolverType::Pgs}) {
-    for (ode::Method integrator : {ode::Method::VelocityVerlet, ode::Method::SymplecticEuler}) {
+    for (ode::Method integrator :
+         {ode::Method::VelocityVerlet, ode::Method::SymplecticEuler, ode::Method::ExplicitEuler}) {
       for (int substeps : {1, 2, 4, 8}) {
-        const Real h = kDt / Real(substeps);
+        if (integrator == ode::Method::ExplicitEuler && substeps == 1) continue;
         for (int phase = 0; phase < 8; ++phase) {
           const Real height = 1 + Real(phase) / 8 * std::sqrt(2 * g) * kDt;
-          const Real speed = std::sqrt(2 * g * height);
-          const Real expected = integrator == ode::Method::VelocityVerlet
-                                    ? e * e * height
-                                    : e * e * height - (e * e + e) * h * speed / 2;
-          EXPECT_NEAR(bounceApex(solver, integrator, substeps, e, height), expected,
+          EXPECT_NEAR(bounceApex(solver, integrator, substeps, e, height), e * e * height,
                       Real(0.02) * e * e * height)
               << solverName(solver) << " " << ode::methodName(integrator) << ", " << substeps
               << " substeps, phase " << phase << "/8";
