@@ -13,6 +13,17 @@ LinkResponse::LinkResponse(Articulation<Real>& articulation, const Transform& ba
   updatePoses();
 }
 
+LinkResponse::LinkResponse(const LinkResponse& other, Articulation<Real>& articulation)
+    : articulation_(articulation),
+      base_(other.base_),
+      baseRotation_(other.baseRotation_),
+      ws_(other.ws_),
+      X0_(other.X0_),
+      points_(other.points_),
+      pointCount_(other.pointCount_),
+      factored_(other.factored_),
+      delta_(other.delta_) {}
+
 void LinkResponse::updatePoses() {
   parentTransforms<Real>(articulation_.model(), articulation_.q(), ws_.Xup);
   baseTransforms(articulation_.model(), ws_.Xup, X0_);

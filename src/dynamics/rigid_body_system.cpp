@@ -487,6 +487,15 @@ int RigidBodySystem::addMultibody(MultibodyResponse* response, std::span<const B
   return static_cast<int>(g);
 }
 
+void RigidBodySystem::setMultibodyResponse(int group, MultibodyResponse* response) {
+  Data& D = *d_;
+  require(response != nullptr, "RigidBodySystem::setMultibodyResponse: the response is null");
+  require(group >= 0 && std::size_t(group) < D.multibodies.size() &&
+              D.multibodies[std::size_t(group)].response,
+          "RigidBodySystem::setMultibodyResponse: no group " + std::to_string(group));
+  D.multibodies[std::size_t(group)].response = response;
+}
+
 void RigidBodySystem::removeMultibody(int group) {
   Data& D = *d_;
   require(group >= 0 && std::size_t(group) < D.multibodies.size() &&

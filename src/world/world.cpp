@@ -274,13 +274,7 @@ PhaseTimes World::phaseTimes() const {
 }
 
 World::State World::saveState() const {
-  // Articulations' joint coordinates are not in a State yet: refuse rather than restore their
-  // link bodies without them.
-  for (const ArticulationSlot& slot : articulationSlots_)
-    require(!slot.articulation,
-            "World::saveState: a world with articulations cannot be saved yet (articulation '" +
-                slot.name + "')");
-  State state{bodies_, {}, {}, time_, accumulator_, steps_};
+  State state{bodies_, {}, {}, {}, time_, accumulator_, steps_};
   for (const ParticleSlot& slot : particleSlots_)
     state.particleSystems.emplace_back(
         slot.system ? std::make_shared<const ParticleSystem>(*slot.system) : nullptr,
@@ -289,6 +283,7 @@ World::State World::saveState() const {
     state.deformables.emplace_back(
         slot.deformable ? std::make_shared<const Deformable>(*slot.deformable) : nullptr,
         slot.generation);
+  saveArticulations(state);
   return state;
 }
 
@@ -318,6 +313,7 @@ void World::restoreState(const State& state) {
   bodies_ = state.bodies;
   restoreSlots(particleSlots_, &ParticleSlot::system, state.particleSystems);
   restoreSlots(deformableSlots_, &DeformableSlot::deformable, state.deformables);
+  restoreArticulations(state);
   time_ = state.time;
   accumulator_ = state.accumulator;
   steps_ = state.steps;

@@ -1,5 +1,6 @@
 // The World's articulations: each link a driven body of the rigid bodies (dynamics/multibody.h)
 // answered by the articulation's LinkResponse, and the link bodies moved after each step.
+#include <memory>
 #include <string>
 
 #include "inertia/articulation/link_response.h"
@@ -119,6 +120,59 @@ std::vector<ArticulationId> World::articulations() const {
   for (std::uint32_t i = 0; i < articulationSlots_.size(); ++i)
     if (articulationSlots_[i].articulation) ids.push_back({i, articulationSlots_[i].generation});
   return ids;
+}
+
+// An articulation in a State: copies of the articulation and of its response, which answers
+// for the copy, and the slot's bookkeeping.
+struct World::SavedArticulation {
+  std::unique_ptr<articulation::Articulation<Real>> articulation;
+  std::unique_ptr<articulation::LinkResponse> response;
+  std::vector<BodyId> links;
+  int group = -1;
+  std::string name;
+};
+
+void World::saveArticulations(State& state) const {
+  for (const ArticulationSlot& slot : articulationSlots_) {
+    std::shared_ptr<SavedArticulation> saved;
+    if (slot.articulation) {
+      saved = std::make_shared<SavedArticulation>();
+      saved->articulation = std::make_unique<articulation::Articulation<Real>>(*slot.articulation);
+      saved->response =
+          std::make_unique<articulation::LinkResponse>(*slot.response, *saved->articulation);
+      saved->links = slot.links;
+      saved->group = slot.group;
+      saved->name = slot.name;
+    }
+    state.articulations.emplace_back(std::move(saved), slot.generation);
+  }
+}
+
+// After the rigid bodies were restored: each slot as saved (a live articulation assigned in
+// place), and each group of the restored bodies pointed at its slot's response, which the
+// saved bodies knew by the address of the response of the world that saved them.
+void World::restoreArticulations(const State& state) {
+  articulationSlots_.resize(state.articulations.size());
+  for (std::size_t i = 0; i < state.articulations.size(); ++i) {
+    ArticulationSlot& slot = articulationSlots_[i];
+    const auto& [saved, generation] = state.articulations[i];
+    slot.generation = generation;
+    if (!saved) {
+      slot = ArticulationSlot{};
+      slot.generation = generation;
+      continue;
+    }
+    if (slot.articulation)
+      *slot.articulation = *saved->articulation;
+    else
+      slot.articulation = std::make_unique<articulation::Articulation<Real>>(*saved->articulation);
+    slot.response =
+        std::make_unique<articulation::LinkResponse>(*saved->response, *slot.articulation);
+    slot.links = saved->links;
+    slot.group = saved->group;
+    slot.name = saved->name;
+    bodies_.setMultibodyResponse(slot.group, slot.response.get());
+  }
 }
 
 // The link bodies take the links' poses and velocities.

@@ -1,11 +1,12 @@
 // World::saveState / restoreState: every simulated system (bodies, contacts, joints, particle
-// systems, deformables) and the clock; a restored world continues bit-identically.
+// systems, deformables, articulations) and the clock; a restored world continues bit-identically.
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <string>
 #include <vector>
 
+#include "inertia/articulation/builders.h"
 #include "inertia/core/error.h"
 #include "inertia/deformable/generators.h"
 #include "inertia/world/builders.h"
@@ -50,6 +51,11 @@ std::string stateBytes(const World& world) {
     appendBytes(out, world.deformable(id).positions());
     appendBytes(out, world.deformable(id).velocities());
   }
+  for (ArticulationId id : world.articulations()) {
+    const articulation::Articulation<Real>& a = world.articulation(id);
+    appendBytes(out, std::span<const Real>(a.q().data(), std::size_t(a.q().size())));
+    appendBytes(out, std::span<const Real>(a.qd().data(), std::size_t(a.qd().size())));
+  }
   appendBytes(out, world.time());
   appendBytes(out, world.stepCount());
   return out;
@@ -57,12 +63,14 @@ std::string stateBytes(const World& world) {
 
 // A world with something of every kind: falling boxes on a ground, a hanging chain on ball
 // joints, a fountain whose particles hit the bodies (random spread: the emitters' random
-// streams), a position-Verlet system (its history lives in the step scratch), and a cloth
-// falling onto the ground box (implicit Euler).
+// streams), a position-Verlet system (its history lives in the step scratch), a cloth
+// falling onto the ground box (implicit Euler), and a double pendulum in reduced coordinates
+// whose balls swing through the ground (contacts through its mass matrix).
 struct Scene {
   World world{{.threads = 1}};
   ParticleSystemId fountain, verlet;
   DeformableId cloth;
+  ArticulationId pendulum;
 
   Scene() {
     const BodyId ground = world.createBody({.type = BodyType::Static});
@@ -95,6 +103,18 @@ struct Scene {
                         .mass = Real(0.2),
                         .stiffness = {.stretch = 2000, .shear = 200, .bend = 1}}));
     world.deformable(cloth).addField({GravityField{}});
+    WorldArticulationSettings arm;
+    arm.name = "pendulum";
+    arm.model = articulation::pendulumChain<Real>(2, Real(0.4), 1);
+    arm.base = {Vec3(0, Real(0.85), -1.5), Quat::Identity()};
+    for (int link = 0; link < 2; ++link)
+      arm.shapes.push_back({.link = link,
+                            .shape = Sphere{Real(0.1)},
+                            .pose = {Vec3(0, Real(-0.4), 0), Quat::Identity()},
+                            .material = {.friction = Real(0.5)}});
+    arm.q = articulation::VectorX<Real>::Zero(2);
+    arm.q << Real(1.2), Real(0.3);
+    pendulum = world.createArticulation(arm);
   }
 };
 
@@ -137,11 +157,13 @@ TEST(WorldSnapshot, RestoreBringsBackTheSavedSlots) {
   ParticleSystem& fountain = s.world.particleSystem(s.fountain);
   s.world.destroyParticleSystem(s.verlet);
   s.world.destroyDeformable(s.cloth);
+  s.world.destroyArticulation(s.pendulum);
   const ParticleSystemId extra = s.world.createParticleSystem({});
   steps(s.world, 5);
   s.world.restoreState(saved);
   EXPECT_TRUE(s.world.isValid(s.verlet));
   EXPECT_TRUE(s.world.isValid(s.cloth));
+  EXPECT_TRUE(s.world.isValid(s.pendulum));
   EXPECT_EQ(&s.world.particleSystem(s.fountain), &fountain);
   // The new system took the verlet system's free slot with the next generation.
   EXPECT_FALSE(s.world.isValid(extra));

@@ -24,6 +24,11 @@ class LinkResponse final : public MultibodyResponse {
   /// `articulation` must outlive this; `base` places the base frame in the world. The
   /// articulation's gravity is set from `gravity` (world, m/s^2) turned into the base frame.
   LinkResponse(Articulation<Real>& articulation, const Transform& base, const Vec3& gravity);
+  /// A copy of `other` (its poses and this step's points) answering for `articulation`, a copy
+  /// of other's articulation: for the world's snapshots.
+  LinkResponse(const LinkResponse& other, Articulation<Real>& articulation);
+  LinkResponse(const LinkResponse&) = delete;
+  LinkResponse& operator=(const LinkResponse&) = delete;
 
   const Transform& base() const { return base_; }
   /// The world pose of link `link`'s frame now.

@@ -124,7 +124,9 @@ struct ContactEvent {
   ShapeId shapeB;
   Vec3 point = Vec3::Zero();   ///< A contact point (m, world); the last known one for an end.
   Vec3 normal = Vec3::UnitY(); ///< From A to B.
-  Real approachSpeed = 0;      ///< Normal approach speed at the start (m/s, >= 0), for sounds.
+  /// Normal approach speed at the start (m/s, >= 0), for sounds: the one restitution answered
+  /// (README, Restitution).
+  Real approachSpeed = 0;
 };
 
 /// A ray hit in the world.
@@ -211,6 +213,9 @@ class RigidBodySystem {
   int addMultibody(MultibodyResponse* response, std::span<const BodyId> members);
   /// Dissolves a group: its members become ordinary bodies again.
   void removeMultibody(int group);
+  /// Points group `group` at `response`: a copy of its response, after this system was assigned
+  /// from a copy (a world's snapshot). InvalidArgument for a free group or a null response.
+  void setMultibodyResponse(int group, MultibodyResponse* response);
   /// A driven body's pose (of its origin) and velocities: its origin's (m/s) and angular
   /// (rad/s), world. InvalidArgument for a body that is not driven.
   void setDrivenState(BodyId id, const Transform& pose, const Vec3& originVelocity,

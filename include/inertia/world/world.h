@@ -185,23 +185,26 @@ class World {
   /// Seconds per phase, summed over all steps.
   PhaseTimes phaseTimes() const;
 
+  /// An articulation as a State keeps it (world_articulations.cpp).
+  struct SavedArticulation;
   /// A copy of everything the world simulates: the rigid bodies with their shapes, contacts
-  /// and joints, every particle system and deformable (in its slot, so ids stay valid), and
-  /// the clock. A world with articulations cannot be saved yet (InvalidArgument).
-  /// restoreState() continues from it bit-identically. A State is immutable and
-  /// cheap to copy (the systems are shared between copies).
+  /// and joints, every particle system, deformable and articulation (in its slot, so ids stay
+  /// valid), and the clock. restoreState() continues from it bit-identically. A State is
+  /// immutable and cheap to copy (the systems are shared between copies).
   struct State {
     RigidBodySystem bodies;
     /// Per slot: the system (null for a free slot) and the slot's generation.
     std::vector<std::pair<std::shared_ptr<const ParticleSystem>, std::uint32_t>> particleSystems;
     std::vector<std::pair<std::shared_ptr<const Deformable>, std::uint32_t>> deformables;
+    std::vector<std::pair<std::shared_ptr<const SavedArticulation>, std::uint32_t>> articulations;
     double time = 0;
     double accumulator = 0;
     std::int64_t steps = 0;
   };
   State saveState() const;
   /// Puts the world back in `state` (saved by this world or another). A system alive in both
-  /// is assigned in place, so references from particleSystem() and deformable() stay valid;
+  /// is assigned in place, so references from particleSystem(), deformable() and
+  /// articulation() stay valid;
   /// one created since is destroyed and its id becomes invalid.
   void restoreState(const State& state);
 
@@ -228,6 +231,8 @@ class World {
   ArticulationSlot& articulationSlot(ArticulationId id);
   const ArticulationSlot& articulationSlot(ArticulationId id) const;
   void followArticulation(const ArticulationSlot& slot);
+  void saveArticulations(State& state) const;
+  void restoreArticulations(const State& state);
   std::vector<ArticulationSlot> articulationSlots_;
   void moveAttachments(Deformable& d, Real dt);
   bool pushBodies(const Deformable& d);
