@@ -1,6 +1,6 @@
 // The binding files' shared declarations: the World as Python holds it, and one bind
 // function per area (shapes.cpp, world.cpp, joints.cpp, particles.cpp, deformables.cpp,
-// batch.cpp).
+// batch.cpp; articulations in articulation_model.h).
 #pragma once
 
 #include <pybind11/numpy.h>
