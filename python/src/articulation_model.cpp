@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "convert.h"
+#include "inertia/articulation/builders.h"
 #include "inertia/articulation/dynamics.h"
 #include "shapes.h"
 
@@ -184,6 +185,11 @@ void bindLinkShape(py::module_& m) {
           "orientation", [](const PyLinkShape& s) { return fromQuat(s.pose.q); }, "[w, x, y, z]");
 }
 
+const art::Model<Real>& modelOf(const PyModel& m) {
+  if (m.model.linkCount() == 0) argumentError("model", "has no links");
+  return m.model;
+}
+
 py::dict linkInfo(const art::Model<Real>& model, int i) {
   const art::Link<Real>& l = model.link(i);
   py::dict d;
@@ -294,6 +300,42 @@ void bindModel(py::module_& m) {
           "set_drive",
           [](PyModel& m, int dof, const art::Drive<Real>& d) { m.model.setDrive(dof, d); },
           py::arg("dof"), py::arg("drive"), "Revolute and prismatic joints' dofs only.")
+      .def_static(
+          "random_tree",
+          [](int links, bool floatingBase, bool armature, std::uint32_t seed) {
+            if (links < 1) argumentError("links", "must be >= 1");
+            return PyModel{art::randomTree<Real>({links, floatingBase, armature, seed}), {}};
+          },
+          py::kw_only(), py::arg("links") = 10, py::arg("floating_base") = false,
+          py::arg("armature") = true, py::arg("seed") = 1,
+          "The library's seeded random tree (its tests' and benchmarks'): joint types cycling "
+          "through revolute, prismatic, spherical and fixed (a floating root with "
+          "floating_base), masses 0.5 to 2 kg, inertias of random boxes.")
+      .def_static(
+          "pendulum_chain",
+          [](int links, Real length, Real mass) {
+            if (links < 1) argumentError("links", "must be >= 1");
+            return PyModel{art::pendulumChain<Real>(links, length, mass), {}};
+          },
+          py::kw_only(), py::arg("links"), py::arg("length"), py::arg("mass"),
+          "A chain of revolute joints about z hanging along -y, each link a point mass (kg) "
+          "length (m) below its joint.")
+      .def_static(
+          "seven_dof_arm",
+          [] {
+            return PyModel{art::sevenDofArm<Real>(), {}};
+          },
+          "A 7-DOF arm shaped as the Franka Panda (its kinematics and link masses), with limits.")
+      .def(
+          "random_state",
+          [](const PyModel& m, std::uint32_t seed) {
+            art::VectorX<Real> q, qd;
+            art::randomState<Real>(modelOf(m), seed, q, qd);
+            return py::make_tuple(fromVector(q), fromVector(qd));
+          },
+          py::arg("seed") = 1,
+          "(q, qd): angles and displacements in [-1, 1], uniform random quaternions, rates in "
+          "[-1, 1], drawn from seed.")
       .def("__repr__", [](const PyModel& m) {
         return "ArticulationModel(" + std::to_string(m.model.linkCount()) + " links, nq " +
                std::to_string(m.model.nq()) + ", nv " + std::to_string(m.model.nv()) + ")";
@@ -305,11 +347,6 @@ py::array fromMatrix(const art::MatrixX<Real>& a) {
   for (Eigen::Index i = 0; i < a.rows(); ++i)
     for (Eigen::Index j = 0; j < a.cols(); ++j) out.mutable_at(i, j) = a(i, j);
   return out;
-}
-
-const art::Model<Real>& modelOf(const PyModel& m) {
-  if (m.model.linkCount() == 0) argumentError("model", "has no links");
-  return m.model;
 }
 
 void bindAlgorithms(py::module_& m) {

@@ -87,6 +87,27 @@ def test_aba_solves_crba_with_rnea_bias(seed, floating):
     assert np.linalg.norm(crba_fd - oracle) <= bound
 
 
+@pytest.mark.parametrize("floating", [False, True])
+def test_the_librarys_random_trees_and_arm_agree_the_same_way(floating):
+    # The library's own builders: ten links cycling through the joint types, and a Panda arm.
+    for model in (inertia.ArticulationModel.random_tree(links=10, floating_base=floating, seed=7),
+                  inertia.ArticulationModel.seven_dof_arm()):
+        q, qd = model.random_state(seed=3)
+        assert q.shape == (model.nq,) and qd.shape == (model.nv,)
+        tau = np.linspace(-1, 1, model.nv)
+        H = inertia.crba(model, q).astype(np.float64)
+        bias = inertia.rnea(model, q, qd, np.zeros(model.nv)).astype(np.float64)
+        oracle = np.linalg.solve(H, tau - bias)
+        qdd = inertia.aba(model, q, qd, tau).astype(np.float64)
+        # As above: cond(H) eps |qdd|.
+        assert np.linalg.norm(qdd - oracle) <= np.linalg.cond(H) * EPS * np.linalg.norm(oracle)
+    chain = inertia.ArticulationModel.pendulum_chain(links=3, length=0.5, mass=2)
+    # Hanging straight down, its centre of mass is at the middle link's end: -(0.5+1+1.5)/3 m.
+    np.testing.assert_allclose(inertia.center_of_mass(chain, np.zeros(3)), [0, -1, 0], atol=1e-6)
+    with pytest.raises(ValueError, match="links"):
+        inertia.ArticulationModel.random_tree(links=0)
+
+
 @pytest.mark.parametrize("seed", [4, 5])
 def test_rnea_inverts_aba(seed):
     model, q, qd, tau = random_tree(seed, floating=seed == 5)
