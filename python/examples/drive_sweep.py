@@ -41,7 +41,7 @@ def scene(stiffness, damping_ratio):
 
 def measure(world):
     """Follows the joint for DURATION seconds: its overshoot past the target (rad) and the
-    last time it was more than 2% away from it (s)."""
+    last time it was more than 2% away from it (s; DURATION when it has not settled)."""
     arm = world.find_articulation("arm")
     peak, settled = 0.0, 0.0
     while world.time < DURATION:
