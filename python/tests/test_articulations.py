@@ -216,6 +216,11 @@ def test_drive_holds_the_static_equilibrium():
     # share would rest 0.014 rad away.
     assert float(art.q[0]) == pytest.approx(q, abs=1e-6)
     assert abs(float(art.qd[0])) < 2e-5
+    # At rest, the drive's impulse in each substep carries gravity's torque over it:
+    # m g d cos(q) h with h = 1/960 s, to float rounding (measured 2e-7 relative; 1e-5 allows
+    # for it, and an impulse per step instead of per substep would be 4 times larger).
+    torque = m * g * d * math.cos(float(art.q[0]))
+    assert float(art.constraint_impulses[0]) == pytest.approx(torque / 960, rel=1e-5)
     # A new target moves it to the new balance.
     art.set_drive_target(0, -0.2)
     for _ in range(240 * 2):
@@ -225,6 +230,16 @@ def test_drive_holds_the_static_equilibrium():
         q = -0.2 - m * g * d * math.cos(q) / k
     assert float(art.q[0]) == pytest.approx(q, abs=1e-6)
     assert art.drives[0].target == pytest.approx(-0.2)
+    # set_drive_targets moves every drive in one call (the model's drives are copies).
+    art.set_drive_targets([0.1])
+    assert art.drives[0].target == pytest.approx(0.1)
+    assert art.model.drives[0].target == pytest.approx(0.1)
+    for _ in range(240 * 2):
+        world.step()
+    q = 0.1
+    for _ in range(50):
+        q = 0.1 - m * g * d * math.cos(q) / k
+    assert float(art.q[0]) == pytest.approx(q, abs=1e-6)
 
 
 def two_link_model():
@@ -263,6 +278,11 @@ def test_arrays_have_their_shapes_and_writing_them_moves_the_links():
         np.testing.assert_allclose(art.link_positions()[i], base + position, atol=1e-6)
         assert abs(np.dot(art.link_orientations()[i], orientation)) == pytest.approx(1, abs=1e-6)
     np.testing.assert_allclose(art.link_positions()[1], base + (0, 0.6, 0), atol=1e-6)
+    # The link bodies move with the joint rates: the shoulder turns the upper link at 0.5 rad/s
+    # about z, so its centre of mass, 0.3 m out along the link (now along y), moves at
+    # w x r = (-0.15, 0, 0) m/s.
+    np.testing.assert_allclose(art.link_angular_velocities()[0], [0, 0, 0.5], atol=1e-6)
+    np.testing.assert_allclose(art.link_linear_velocities()[0], [-0.15, 0, 0], atol=1e-6)
     # The body list sees the same poses.
     bodies = art.link_bodies()
     np.testing.assert_allclose(world.position(bodies[1]), art.link_positions()[1])
