@@ -2,6 +2,7 @@
 against closed forms, a World's articulation against a pendulum's period and a drive's static
 equilibrium, the state arrays, scenes' articulations by name, and bad input."""
 
+import gc
 import math
 import pickle
 
@@ -9,7 +10,6 @@ import numpy as np
 import pytest
 
 import inertia
-from conftest import SOURCE_DIR
 
 EPS = float(np.finfo(inertia.real_dtype).eps)  # 1.2e-7 (float), 2.2e-16 (double)
 JOINTS = ["revolute", "prismatic", "spherical", "fixed"]
@@ -40,8 +40,9 @@ def random_tree(seed, floating=False):
     spherical children of the root, a fixed link on the spherical one, a revolute one below."""
     rng = np.random.default_rng(seed)
     model = inertia.ArticulationModel()
-    layout = [("root", None, "floating" if floating else "revolute"), ("slide", "root", "prismatic"),
-              ("ball", "root", "spherical"), ("weld", "ball", "fixed"), ("tip", "weld", "revolute")]
+    layout = [("root", None, "floating" if floating else "revolute"),
+              ("slide", "root", "prismatic"), ("ball", "root", "spherical"),
+              ("weld", "ball", "fixed"), ("tip", "weld", "revolute")]
     for name, parent, joint in layout:
         mass = rng.uniform(0.5, 2)
         scalar = joint in ("revolute", "prismatic")
@@ -332,7 +333,6 @@ def test_stale_handles_raise_and_keep_their_world():
         world.destroy_articulation(art)
     # A handle keeps its world alive.
     other = inertia.World().create_articulation(pendulum(), name="kept")
-    import gc
     gc.collect()
     assert other.name == "kept" and other.world.body_count == 1
     with pytest.raises(ValueError, match="articulation"):
