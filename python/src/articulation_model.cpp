@@ -125,6 +125,8 @@ int addLink(PyModel& m, const std::string& name, py::handle parent, const std::s
     s.joint.drive = drive.cast<art::Drive<Real>>();
   }
   std::vector<PyLinkShape> linkShapes;
+  if (!py::isinstance<py::iterable>(shapes) || py::isinstance<py::str>(shapes))
+    argumentError("shapes", "expected a list of inertia.LinkShape");
   for (py::handle sh : shapes) {
     if (!py::isinstance<PyLinkShape>(sh))
       argumentError("shapes", "expected inertia.LinkShape items, got " +

@@ -356,6 +356,7 @@ def test_bad_input_names_the_argument():
         (lambda: model.add_link("x", mass="heavy", inertia=(1, 1, 1)), "mass: expected a number"),
         (lambda: model.add_link("x", drive=3, mass=1, inertia=(1, 1, 1)), "drive"),
         (lambda: model.add_link("x", shapes=[inertia.Sphere(1)]), "shapes"),
+        (lambda: model.add_link("x", shapes=3), "shapes"),
         (lambda: model.add_link("bob", mass=1, inertia=(1, 1, 1)), "name"),
         (lambda: model.add_link("x", axis=(0, 0, 0), mass=1, inertia=(1, 1, 1)), "axis"),
         (lambda: model.add_link("x", limits=(1, -1), mass=1, inertia=(1, 1, 1)), "limits"),
