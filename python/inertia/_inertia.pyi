@@ -53,6 +53,12 @@ class DeformableId:
     def __init__(self) -> None: ...
     def is_null(self) -> bool: ...
 
+class ArticulationId:
+    index: int
+    generation: int
+    def __init__(self) -> None: ...
+    def is_null(self) -> bool: ...
+
 class BodyType:
     STATIC: BodyType
     KINEMATIC: BodyType
@@ -384,6 +390,8 @@ class World:
     def is_valid(self, id: ParticleSystemId) -> bool: ...
     @overload
     def is_valid(self, id: DeformableId) -> bool: ...
+    @overload
+    def is_valid(self, id: ArticulationId) -> bool: ...
     def bodies(self) -> list[BodyId]: ...
     def shapes(self, body: BodyId) -> list[ShapeId]: ...
     def shape_body(self, shape: ShapeId) -> BodyId: ...
@@ -452,6 +460,19 @@ class World:
     def joint_error(self, joint: JointId) -> tuple[float, float]: ...
     def joint_anchors(self, joint: JointId) -> tuple[Array, Array]: ...
     def joint_events(self) -> list[JointEvent]: ...
+    # Articulations (reduced coordinates; their links are bodies named NAME/LINK).
+    def create_articulation(self, model: ArticulationModel, *, name: str = "",
+                            position: Optional[Vec3Like] = None,
+                            orientation: Optional[QuatLike] = None,
+                            q: Optional[npt.ArrayLike] = None, qd: Optional[npt.ArrayLike] = None,
+                            constraint_iterations: int = 20,
+                            limit_baumgarte: float = 0.2) -> Articulation:
+        """The base frame at position (m) and orientation [w, x, y, z]; q (nq,) and qd (nv,)
+        the initial state (default: the neutral configuration at rest)."""
+    def destroy_articulation(self, articulation: Union[Articulation, ArticulationId]) -> None: ...
+    def articulations(self) -> list[Articulation]: ...
+    def find_articulation(self, name: str) -> Articulation: ...
+    def articulation(self, id: ArticulationId) -> Articulation: ...
     # Particle systems.
     def create_particle_system(self, *, name: str = "", capacity: int = 10000,
                                integrator: str = "symplectic_euler", restitution: float = 0.5,
@@ -513,6 +534,142 @@ class World:
     # (TypeError for one built or changed through the API).
     def __getstate__(self) -> tuple[Any, ...]: ...
     def __setstate__(self, state: tuple[Any, ...]) -> None: ...
+
+# Articulations: models, the algorithms over (model, q, qd), and a World's articulations.
+# q (nq,): angles (rad), displacements (m), unit quaternions [w, x, y, z] (spherical joints; a
+# floating base's position then quaternion); qd (nv,): rates (rad/s, m/s).
+
+LinkLike = Union[int, str]
+
+class Drive:
+    """PD drive: clamp(stiffness (target - q) + damping (target_velocity - qd), +-max_force)."""
+    stiffness: float
+    """N m/rad or N/m"""
+    damping: float
+    """N m s/rad or N s/m"""
+    target: float
+    """rad or m"""
+    target_velocity: float
+    """rad/s or m/s"""
+    max_force: float
+    """N m or N"""
+    def __init__(self, *, stiffness: float = 0, damping: float = 0, target: float = 0,
+                 target_velocity: float = 0, max_force: float = ...) -> None: ...
+
+class LinkShape:
+    """A collision shape of a link, at a pose in the link's frame."""
+    shape: Shape
+    material: Material
+    position: Array
+    orientation: Array
+    def __init__(self, shape: Shape, material: Material = ..., *,
+                 position: Optional[Vec3Like] = None,
+                 orientation: Optional[QuatLike] = None) -> None: ...
+
+class ArticulationModel:
+    """A tree of links, each on one joint to its parent (or the base); parents first."""
+    link_count: int
+    nq: int
+    nv: int
+    gravity: Array
+    """In the base frame (m/s^2), for the functions of (model, q, ...)."""
+    shape_count: int
+    lower: Array
+    upper: Array
+    damping: Array
+    friction: Array
+    armature: Array
+    velocity_limit: Array
+    drives: list[Drive]
+    def __init__(self) -> None: ...
+    def add_link(self, name: str = "", *, parent: Optional[LinkLike] = None,
+                 joint: str = "revolute", axis: Vec3Like = (0, 0, 1),
+                 origin_position: Vec3Like = (0, 0, 0),
+                 origin_orientation: QuatLike = (1, 0, 0, 0),
+                 limits: Optional[tuple[float, float]] = None, damping: float = 0,
+                 friction: float = 0, armature: float = 0, velocity_limit: float = ...,
+                 drive: Optional[Drive] = None, mass: Optional[float] = None,
+                 com: Optional[Vec3Like] = None, inertia: Optional[npt.ArrayLike] = None,
+                 shapes: Sequence[LinkShape] = ...) -> int:
+        """joint: 'revolute', 'prismatic', 'spherical', 'fixed' or 'floating' (a root only).
+        mass (kg), com (m) and inertia (kg m^2, principal moments or 3x3 about the com), or
+        None: from the shapes' volumes and densities. Returns the link's index."""
+    def find_link(self, name: str) -> int: ...
+    def link(self, link: LinkLike) -> dict[str, Any]:
+        """name, parent, joint, q_slice, v_slice, mass (kg), com (m)."""
+    def link_names(self) -> list[str]: ...
+    def neutral_configuration(self) -> Array: ...
+    def set_drive(self, dof: int, drive: Drive) -> None: ...
+    @staticmethod
+    def random_tree(*, links: int = 10, floating_base: bool = False, armature: bool = True,
+                    seed: int = 1) -> ArticulationModel: ...
+    @staticmethod
+    def pendulum_chain(*, links: int, length: float, mass: float) -> ArticulationModel: ...
+    @staticmethod
+    def seven_dof_arm() -> ArticulationModel: ...
+    def random_state(self, seed: int = 1) -> tuple[Array, Array]: ...
+
+class Articulation:
+    """A World's articulation (World.create_articulation); raises InvalidArgument once
+    destroyed."""
+    id: ArticulationId
+    world: World
+    name: str
+    model: ArticulationModel
+    """A copy, without shapes, in the world's gravity (base axes)."""
+    nq: int
+    nv: int
+    link_count: int
+    q: Array
+    """(nq,), a copy."""
+    qd: Array
+    """(nv,), a copy."""
+    drives: list[Drive]
+    constraint_impulses: Array
+    """(nv,) N m s or N s."""
+    def is_valid(self) -> bool: ...
+    def set_state(self, q: npt.ArrayLike, qd: Optional[npt.ArrayLike] = None) -> None: ...
+    def set_joint_forces(self, tau: npt.ArrayLike) -> None:
+        """(nv,) N m or N, applied every step until changed."""
+    def set_drive_target(self, dof: int, target: float, target_velocity: float = 0) -> None: ...
+    def set_drive_targets(self, targets: npt.ArrayLike,
+                          target_velocities: Optional[npt.ArrayLike] = None) -> None: ...
+    def set_drive(self, dof: int, drive: Drive) -> None: ...
+    def link_bodies(self) -> list[BodyId]: ...
+    def link_positions(self) -> Array:
+        """(n, 3) m, world."""
+    def link_orientations(self) -> Array:
+        """(n, 4) [w, x, y, z], world."""
+    def link_linear_velocities(self) -> Array: ...
+    def link_angular_velocities(self) -> Array: ...
+
+def aba(model: ArticulationModel, q: npt.ArrayLike, qd: npt.ArrayLike,
+        tau: npt.ArrayLike) -> Array:
+    """Forward dynamics (Featherstone's ABA): qdd (nv,) under gravity and tau (N m or N)."""
+def forward_dynamics_crba(model: ArticulationModel, q: npt.ArrayLike, qd: npt.ArrayLike,
+                          tau: npt.ArrayLike) -> Array: ...
+def rnea(model: ArticulationModel, q: npt.ArrayLike, qd: npt.ArrayLike,
+         qdd: npt.ArrayLike) -> Array:
+    """Inverse dynamics (recursive Newton-Euler): tau (nv,) giving qdd under gravity."""
+def crba(model: ArticulationModel, q: npt.ArrayLike) -> Array:
+    """The mass matrix H(q), (nv, nv)."""
+def point_jacobian(model: ArticulationModel, q: npt.ArrayLike, link: LinkLike,
+                   point: Vec3Like = (0, 0, 0)) -> Array:
+    """(6, nv): [w; v] = J qd in base axes."""
+def link_pose(model: ArticulationModel, q: npt.ArrayLike,
+              link: LinkLike) -> tuple[Array, Array]: ...
+def point_position(model: ArticulationModel, q: npt.ArrayLike, link: LinkLike,
+                   point: Vec3Like = (0, 0, 0)) -> Array: ...
+def integrate_configuration(model: ArticulationModel, q: npt.ArrayLike, qd: npt.ArrayLike,
+                            h: float) -> Array: ...
+def kinetic_energy(model: ArticulationModel, q: npt.ArrayLike, qd: npt.ArrayLike) -> float:
+    """J"""
+def potential_energy(model: ArticulationModel, q: npt.ArrayLike) -> float:
+    """J, in the model's gravity, zero at the base origin."""
+def center_of_mass(model: ArticulationModel, q: npt.ArrayLike) -> Array:
+    """m, base frame."""
+def momentum(model: ArticulationModel, q: npt.ArrayLike, qd: npt.ArrayLike) -> Array:
+    """[angular (kg m^2/s); linear (kg m/s)] about the base origin."""
 
 # Deformable models (DESIGN.md; the library's generators). Masses in kg (totals), stiffness
 # per spring in N/m, damping per spring in N s/m.

@@ -1,6 +1,6 @@
 // The binding files' shared declarations: the World as Python holds it, and one bind
 // function per area (shapes.cpp, world.cpp, joints.cpp, particles.cpp, deformables.cpp,
-// batch.cpp).
+// batch.cpp; articulations in articulation_model.h).
 #pragma once
 
 #include <pybind11/numpy.h>
@@ -113,6 +113,10 @@ class SteppingScope {
   PyWorld* one_ = nullptr;
   std::span<PyWorld* const> worlds_;
 };
+
+/// World.step (step_call.cpp): a CPython fast call for step() and step(dt), and the
+/// pybind11-bound step that every other call goes to.
+void bindStep(py::class_<PyWorld>& world);
 
 void bindIds(py::module_& m);
 void bindShapes(py::module_& m);

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <string>
 
+#include "articulation_model.h"
 #include "bindings.h"
 #include "inertia/core/error.h"
 #include "inertia/core/id.h"
@@ -70,6 +71,7 @@ void bindIds(py::module_& m) {
   bindId<JointTag>(m, "JointId", "A joint between two bodies, or a body and the world.");
   bindId<ParticleSystemTag>(m, "ParticleSystemId", "A particle system of a World.");
   bindId<DeformableTag>(m, "DeformableId", "A deformable (rope, cloth, soft body) of a World.");
+  bindId<ArticulationTag>(m, "ArticulationId", "An articulation (a tree of links) of a World.");
 }
 
 }  // namespace inertia::python
@@ -101,6 +103,8 @@ PYBIND11_MODULE(_inertia, m) {
   python::bindShapes(m);
   python::bindWorld(m);
   python::bindJoints(m);
+  python::bindArticulationModel(m);
+  python::bindArticulations(m);
   python::bindParticles(m);
   python::bindDeformables(m);
   python::bindBatch(m);

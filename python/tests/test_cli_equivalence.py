@@ -33,6 +33,7 @@ def record(world, names, out):
         ("bounce.json", 120),  # contacts and restitution, velocity Verlet in free flight
         ("pendulums.json", 60),  # hinge, ball, chain and slider joints
         ("pyramid.json", 30),  # many boxes in contact, the solver's colours across threads
+        ("articulations.json", 120),  # a driven arm and a floating walker touching bodies
     ],
 )
 def test_same_bytes_as_inertia_run(cli, scenes, tmp_path, scene, steps):
