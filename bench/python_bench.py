@@ -1,8 +1,7 @@
 """Benchmarks of the Python module (issue 20), each against its baseline in the same run:
 
-- the cost of one World.step() on an empty world from Python, beside the same step through
-  pybind11's dispatcher and a bare call into the module (a property read): the goal is below
-  2 us;
+- the cost of one World.step() on an empty world from Python, beside a bare call into the
+  module (a property read): the goal is below 2 us;
 - inertia.Batch of 4,096 small worlds (a pendulum; a box on a plane) at 1 and 2 threads (and
   every core), against the same worlds stepped one by one from a Python loop;
 - a 10,000-scene sweep on a local Dask cluster against the serial loop.
@@ -17,8 +16,6 @@ import glob
 import os
 import sys
 import time
-
-import numpy
 
 import inertia
 
@@ -50,15 +47,9 @@ def best_of(repeats, f):
 def step_overhead(calls):
     world = inertia.World(threads=1)
     step = best_of(5, lambda: [world.step() for _ in range(calls)]) / calls
-    # step() and step(float) are a plain CPython call; anything else, here a NumPy float, goes
-    # on to the pybind11-bound step: the same step behind pybind11's dispatcher (and one more
-    # call), as World.step was before.
-    dt = numpy.float64(world.dt)
-    bound = best_of(5, lambda: [world.step(dt) for _ in range(calls)]) / calls
     read = best_of(5, lambda: [world.step_count for _ in range(calls)]) / calls
     print(f"World.step() on an empty world: {step * 1e6:.2f} us per call "
-          f"(through pybind11's dispatcher: {bound * 1e6:.2f} us; a bare property read: "
-          f"{read * 1e6:.2f} us; goal: step below 2 us)")
+          f"(a bare property read: {read * 1e6:.2f} us; goal: step below 2 us)")
 
 
 def thread_cpu_ticks():

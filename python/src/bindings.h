@@ -114,10 +114,6 @@ class SteppingScope {
   std::span<PyWorld* const> worlds_;
 };
 
-/// World.step (step_call.cpp): a CPython fast call for step() and step(dt), and the
-/// pybind11-bound step that every other call goes to.
-void bindStep(py::class_<PyWorld>& world);
-
 void bindIds(py::module_& m);
 void bindShapes(py::module_& m);
 void bindWorld(py::module_& m);

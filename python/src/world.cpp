@@ -309,6 +309,20 @@ void bindWorld(py::module_& m) {
           "After advance(): where (0..1) real time lies between the last two "
           "physics states.")
       .def(
+          "step",
+          [](PyWorld& w, std::optional<Real> dt) {
+            World& world = w.get();
+            const Real h = dt.value_or(world.settings().dt);
+            {
+              SteppingScope stepping(w);
+              py::gil_scoped_release release;  // the library checks h (InvalidArgument)
+              world.step(h);
+            }
+            if (w.recipe) w.recipe->record(h, 0);
+          },
+          py::arg("dt") = py::none(),
+          "Advances by exactly dt seconds (default: the world's dt), in substeps.")
+      .def(
           "advance",
           [](PyWorld& w, Real frameTime, int maxSteps) {
             World& world = w.get();
@@ -324,7 +338,6 @@ void bindWorld(py::module_& m) {
           py::arg("frame_time"), py::arg("max_steps") = 8,
           "Advances a frame of frame_time seconds in fixed steps of dt with an accumulator; at "
           "most max_steps steps. Returns the number of steps taken.");
-  bindStep(world);
 
   // Bodies.
   world

@@ -174,36 +174,6 @@ def test_a_world_being_stepped_refuses_other_threads():
     assert "another thread is stepping" in refused
 
 
-def test_step_takes_what_it_took_and_refuses_the_rest():
-    # World.step is a plain CPython method for step() and step(float); every other call goes
-    # through the pybind11-bound step, with its conversions and errors.
-    world = inertia.World(dt=0.01)
-    for dt in ((), (None,), (0.02,), (1,), (np.float32(0.03),)):
-        world.step(*dt)
-    world.step(dt=0.04)
-    assert world.step_count == 6
-    assert world.time == pytest.approx(0.01 + 0.01 + 0.02 + 1 + 0.03 + 0.04, rel=1e-6)
-    for bad in (0.0, -1.0, float("nan"), float("inf")):
-        with pytest.raises(inertia.InvalidArgument, match="dt"):
-            world.step(bad)
-    for args in (("x",), (1, 2)):
-        with pytest.raises(TypeError, match="step"):
-            world.step(*args)
-    with pytest.raises(TypeError, match="step"):
-        inertia.World.step(3)
-    assert world.step_count == 6
-
-    class Sub(inertia.World):
-        pass
-
-    sub = Sub()
-    sub.step()
-    assert sub.step_count == 1
-    scene = inertia.load_scene(str(SOURCE_DIR / "scenes" / "pyramid.json"))
-    refused = polls_refused(lambda: scene.advance(1.1, max_steps=60), scene.step)
-    assert "another thread is stepping" in refused
-
-
 def test_particle_writes_must_be_finite():
     world = inertia.World()
     ps = world.create_particle_system(capacity=10)
