@@ -90,11 +90,12 @@ Eigen::VectorXd copy(int n, F entry) {
 // In double both sides are recursions over the same numbers and agree to rounding,
 // kappa(H) n eps ~ 1e-13; the 1e-9 relative is asserted. In float our model holds the
 // file's numbers rounded to float (6e-8 relative) and computes in float: the mass matrix and
-// inverse dynamics to a few float epsilons (1e-5 relative), forward dynamics amplified by the
-// condition number of H (~1e3 for this arm, whose wrist is light): 1e-3.
+// forward dynamics to 1e-5 (measured 8e-7 and 2e-7), inverse dynamics to 1e-4 relative to the
+// torques, which are differences of gravity and inertial terms several times larger (measured
+// 2e-5).
 TEST(UrdfDart, ArmMassMatrixForwardAndInverseDynamicsAgree) {
   const bool dbl = std::is_same_v<Real, double>;
-  const double tolH = dbl ? 1e-9 : 1e-5, tolAba = dbl ? 1e-9 : 1e-3, tolRnea = dbl ? 1e-9 : 1e-5;
+  const double tolH = dbl ? 1e-9 : 1e-5, tolAba = dbl ? 1e-9 : 1e-5, tolRnea = dbl ? 1e-9 : 1e-4;
   const io::UrdfRobot robot = io::loadUrdf(armFile());
   const urdf::ModelInterfaceSharedPtr parsed = urdf::parseURDFFile(armFile().string());
   ASSERT_TRUE(parsed);
