@@ -17,6 +17,9 @@ Articulation<S>::Articulation(Model<S> model, const ArticulationSettings<S>& set
           "articulation: settings.constraintIterations must be in 1..1000");
   require(settings.limitBaumgarte >= 0 && settings.limitBaumgarte <= 1,
           "articulation: settings.limitBaumgarte must be in [0, 1]");
+  if (const int i = firstLinkMovingNoMass(model_); i >= 0)
+    require(false, "articulation: link " + std::to_string(i) + " '" + model_.link(i).name +
+                       "': its joint moves no mass (the link and its descendants are massless)");
   q_ = model_.neutralConfiguration();
   qd_ = tau_ = qdd_ = impulse_ = VectorX<S>::Zero(model_.nv());
   y_.resize(model_.nq() + model_.nv());

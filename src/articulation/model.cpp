@@ -54,9 +54,14 @@ namespace {
 
 template <class S>
 void checkInertia(const LinkInertia<S>& in, const std::string& where) {
-  require(std::isfinite(in.mass) && in.mass > 0, where + ".mass must be finite and > 0");
+  require(std::isfinite(in.mass) && in.mass >= 0, where + ".mass must be finite and >= 0");
   require(in.centerOfMass.allFinite(), where + ".centerOfMass must be finite");
   const Matrix3<S>& I = in.inertia;
+  // A massless link (a frame for shapes or children, as URDF allows) has no inertia either.
+  if (in.mass == 0) {
+    require(I.isZero(0), where + ".inertia must be zero for a massless link");
+    return;
+  }
   require(I.allFinite() && (I - I.transpose()).cwiseAbs().maxCoeff() <= S(1e-6) * I.norm(),
           where + ".inertia must be finite and symmetric");
   const Eigen::SelfAdjointEigenSolver<Matrix3<S>> eig(I);
@@ -200,6 +205,22 @@ VectorX<S> Model<S>::neutralConfiguration() const {
   return q;
 }
 
+template <class S>
+int firstLinkMovingNoMass(const Model<S>& model) {
+  // Subtree masses, children before parents (a parent's index is below its children's).
+  std::vector<S> subtree(std::size_t(model.linkCount()), S(0));
+  for (int i = model.linkCount() - 1; i >= 0; --i) {
+    subtree[std::size_t(i)] += model.link(i).mass;
+    if (model.link(i).parent >= 0)
+      subtree[std::size_t(model.link(i).parent)] += subtree[std::size_t(i)];
+  }
+  for (int i = 0; i < model.linkCount(); ++i)
+    if (model.link(i).nv > 0 && !(subtree[std::size_t(i)] > 0)) return i;
+  return -1;
+}
+
+template int firstLinkMovingNoMass<float>(const Model<float>&);
+template int firstLinkMovingNoMass<double>(const Model<double>&);
 template LinkInertia<float> inertiaFromShapes<float>(std::span<const LinkShape>);
 template LinkInertia<double> inertiaFromShapes<double>(std::span<const LinkShape>);
 template class Model<float>;

@@ -1,9 +1,12 @@
 #include "articulations_section.h"
 
+#include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 
 #include "inertia/core/error.h"
+#include "inertia/io/urdf.h"
 #include "shape_reader.h"
 
 namespace inertia::io::detail {
@@ -150,15 +153,43 @@ void readLink(const Node& n, const MaterialTable& materials, bool floatingRoot,
   }
 }
 
-// "q", "qd" or "drives" keyed by link name.
-template <class F>
-void forEachNamed(const Node& n, const art::Model<Real>& model, F f) {
-  if (!n.json().is_object()) n.fail("expected an object of link name -> value");
+// "q", "qd" or "drives" keyed by name: `find` gives the link a name stands for (-1 for none).
+template <class Find, class F>
+void forEachNamed(const Node& n, const char* kind, Find find, F f) {
+  if (!n.json().is_object())
+    n.fail(std::string("expected an object of ") + kind + " name -> value");
   for (const auto& [key, value] : n.json().items()) {
     Node v = n.at(key);
-    const int link = model.findLink(key);
-    if (link < 0) v.fail("no link named \"" + key + "\"");
+    const int link = find(key);
+    if (link < 0) v.fail(std::string("no ") + kind + " named \"" + key + "\"");
     f(link, v);
+  }
+}
+
+// Inline links; their joints' own "q" and "qd" are read after the section's pose.
+void readLinks(const Node& links, const MaterialTable& materials, bool floating,
+               WorldArticulationSettings& s) {
+  if (links.requireArray() == 0) links.fail("an articulation needs at least one link");
+  for (std::size_t i = 0; i < links.requireArray(); ++i) {
+    Node l = links.at(i);
+    const bool floatingRoot = floating && s.model.linkCount() == 0;
+    if (floating && i > 0 && l.has("parent") && l.at("parent").json().is_null())
+      l.at("parent").fail("a floating base has one root link, the first");
+    readLink(l, materials, floatingRoot, s);
+  }
+}
+
+// A URDF robot (io/urdf.h), its path relative to the scene file's directory.
+UrdfRobot readUrdf(const Node& n, bool floating) {
+  Node u = n.at("urdf");
+  const std::filesystem::path relative = u.string();
+  if (relative.empty()) u.fail("empty URDF path");
+  const std::filesystem::path path =
+      relative.is_absolute() ? relative : std::filesystem::path(n.file()).parent_path() / relative;
+  try {
+    return loadUrdf(path, {.floatingBase = floating});
+  } catch (const UrdfError& e) {
+    u.fail(e.what());
   }
 }
 
@@ -172,10 +203,6 @@ ArticulationDesc readArticulation(const Node& n, std::size_t index,
   d.pointer = n.pointer().to_string();
   WorldArticulationSettings& s = d.settings;
   s.name = n.has("name") ? n.at("name").string() : "articulation" + std::to_string(index);
-  if (n.has("urdf"))
-    n.at("urdf").fail(
-        "URDF robots are not supported yet (liburdfdom is not a dependency); "
-        "give the links inline");
   bool floating = false;
   if (n.has("base")) {
     Node b = n.at("base");
@@ -184,14 +211,18 @@ ArticulationDesc readArticulation(const Node& n, std::size_t index,
     floating = base == "floating";
   }
   const Transform pose = readPose(n);
-  Node links = n.at("links");
-  if (links.requireArray() == 0) links.fail("an articulation needs at least one link");
-  for (std::size_t i = 0; i < links.requireArray(); ++i) {
-    Node l = links.at(i);
-    const bool floatingRoot = floating && s.model.linkCount() == 0;
-    if (floating && i > 0 && l.has("parent") && l.at("parent").json().is_null())
-      l.at("parent").fail("a floating base has one root link, the first");
-    readLink(l, materials, floatingRoot, s);
+  // Names in "q", "qd" and "drives": the links' for inline links, the joints' for URDF.
+  std::optional<UrdfRobot> robot;
+  if (n.has("urdf")) {
+    if (n.has("links")) n.at("links").fail("an articulation takes \"urdf\" or \"links\", not both");
+    robot = readUrdf(n, floating);
+    if (robot->floatingBase && !floating && n.has("base"))
+      n.at("base").fail("the URDF's root is on a floating joint: the base is \"floating\"");
+    floating = robot->floatingBase;
+    s.model = std::move(robot->model);
+    s.shapes = std::move(robot->shapes);
+  } else {
+    readLinks(n.at("links"), materials, floating, s);
   }
   // Initial state: the neutral configuration, the floating base at the pose, then each joint's
   // own "q"/"qd" and the section's.
@@ -203,27 +234,41 @@ ArticulationDesc readArticulation(const Node& n, std::size_t index,
   } else {
     s.base = pose;
   }
-  for (std::size_t i = 0; i < links.requireArray(); ++i) {
-    Node l = links.at(i);
-    if (!l.has("joint")) continue;
-    const art::Link<Real>& link = s.model.link(int(i));
-    Node j = l.at("joint");
-    if (j.has("q")) readCoordinates(j.at("q"), s.q, link.qIndex, link.nq);
-    if (j.has("qd")) readCoordinates(j.at("qd"), s.qd, link.vIndex, link.nv);
+  if (!robot) {
+    Node links = n.at("links");
+    for (std::size_t i = 0; i < links.requireArray(); ++i) {
+      Node l = links.at(i);
+      if (!l.has("joint")) continue;
+      const art::Link<Real>& link = s.model.link(int(i));
+      Node j = l.at("joint");
+      if (j.has("q")) readCoordinates(j.at("q"), s.q, link.qIndex, link.nq);
+      if (j.has("qd")) readCoordinates(j.at("qd"), s.qd, link.vIndex, link.nv);
+    }
   }
+  const char* kind = robot ? "joint" : "link";
+  auto find = [&](const std::string& name) {
+    if (!robot) return s.model.findLink(name);
+    const UrdfJoint* j = robot->findJoint(name);
+    return j ? j->link : -1;
+  };
   if (n.has("q"))
-    forEachNamed(n.at("q"), s.model, [&](int i, const Node& v) {
+    forEachNamed(n.at("q"), kind, find, [&](int i, const Node& v) {
       readCoordinates(v, s.q, s.model.link(i).qIndex, s.model.link(i).nq);
     });
   if (n.has("qd"))
-    forEachNamed(n.at("qd"), s.model, [&](int i, const Node& v) {
+    forEachNamed(n.at("qd"), kind, find, [&](int i, const Node& v) {
       readCoordinates(v, s.qd, s.model.link(i).vIndex, s.model.link(i).nv);
     });
   if (n.has("drives"))
-    forEachNamed(n.at("drives"), s.model, [&](int i, const Node& v) {
+    forEachNamed(n.at("drives"), kind, find, [&](int i, const Node& v) {
       if (s.model.link(i).nv != 1) v.fail("drives are for revolute and prismatic joints");
+      art::Drive<Real> drive = readDrive(v);
+      // A URDF joint's effort limit bounds its drive unless the drive says otherwise.
+      if (robot && !v.has("max_force"))
+        for (const UrdfJoint& j : robot->joints)
+          if (j.link == i) drive.maxForce = j.effort;
       try {
-        s.model.setDrive(s.model.link(i).vIndex, readDrive(v));
+        s.model.setDrive(s.model.link(i).vIndex, drive);
       } catch (const InvalidArgument& e) {
         v.fail(e.what());
       }

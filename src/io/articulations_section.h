@@ -1,5 +1,5 @@
 // The "articulations" section of scene files (DESIGN.md section 4): reduced-coordinate trees
-// with inline links (a URDF file is refused: liburdfdom is not among the dependencies yet).
+// with inline links or from a URDF file (io/urdf.h).
 #pragma once
 
 #include "bodies_section.h"

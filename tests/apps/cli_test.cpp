@@ -436,3 +436,34 @@ TEST_F(Cli, BadDeformableIsBadInputNamingThePointer) {
     EXPECT_NE(r.output.find(file + ": /deformables/0/resolution/1"), std::string::npos) << r.output;
   }
 }
+
+TEST_F(Cli, BadUrdfIsBadInputNamingThePointerAndTheFile) {
+  const std::string good = R"(<robot name="r"><link name="a"/><link name="b"><inertial>
+      <mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>
+      <joint name="hinge" type="continuous"><parent link="a"/><child link="b"/></joint></robot>)";
+  write("good.urdf", good);
+  const std::string planar =
+      write("planar.urdf", std::string(good).replace(good.find("continuous"), 10, "planar"));
+  const std::string broken = write("broken.urdf", "<robot name=\"r\"><link name=\"a\">");
+  const std::string ok =
+      write("ok.json", R"({"articulations": [{"urdf": "good.urdf", "q": {"hinge": 0.5}}]})");
+  EXPECT_EQ(run("validate " + ok).code, 0);
+  struct Case {
+    std::string scene, expected;
+  };
+  for (const Case& c : {Case{R"({"articulations": [{"urdf": "planar.urdf"}]})",
+                             ": /articulations/0/urdf: " + planar + ": joint 'hinge' is planar"},
+                        Case{R"({"articulations": [{"urdf": "broken.urdf"}]})",
+                             ": /articulations/0/urdf: " + broken + ": urdfdom cannot parse it"},
+                        Case{R"({"articulations": [{"urdf": "absent.urdf"}]})",
+                             ": /articulations/0/urdf: " + path("absent.urdf") + ": no such file"},
+                        Case{R"({"articulations": [{"urdf": "good.urdf", "q": {"knee": 1}}]})",
+                             ": /articulations/0/q/knee: no joint named \"knee\""}}) {
+    const std::string file = write("bad.json", c.scene);
+    for (const char* cmd : {"validate ", "run "}) {
+      Result r = run(cmd + file);
+      EXPECT_EQ(r.code, 2) << r.output;
+      EXPECT_NE(r.output.find(file + c.expected), std::string::npos) << r.output;
+    }
+  }
+}

@@ -105,8 +105,10 @@ INSTANTIATE_TEST_SUITE_P(
     testing::Values(
         BadCase{R"({"name": "a", "links": [], "colour": 1})", "/articulations/0/colour", "unknown"},
         BadCase{R"({"name": "a", "links": []})", "/articulations/0/links", "at least one link"},
-        BadCase{R"({"name": "a", "urdf": "robot.urdf", "links": []})", "/articulations/0/urdf",
-                "URDF"},
+        BadCase{R"({"name": "a", "urdf": "robot.urdf", "links": []})", "/articulations/0/links",
+                "not both"},
+        BadCase{R"({"name": "a", "urdf": "absent.urdf"})", "/articulations/0/urdf",
+                "absent.urdf: no such file"},
         BadCase{R"({"name": "a", "base": "wobbly", "links": []})", "/articulations/0/base",
                 "fixed"},
         BadCase{R"({"name": "a", "links": [{"name": "l", "joint": {"type": "hinge"}, "mass": 1}]})",

@@ -67,12 +67,16 @@ struct JointSettings {
   Drive<S> drive{};
 };
 
-/// Mass properties of a link in its own frame.
+/// Mass properties of a link in its own frame. A massless link (mass 0 and inertia zero, as
+/// URDF's links without an inertial) is a frame for shapes and children: the joints that move
+/// it must move some mass too (firstLinkMovingNoMass).
 template <class S>
 struct LinkInertia {
-  S mass = S(1);                                 ///< (kg), > 0
+  S mass = S(1);                                 ///< (kg), > 0, or 0 for a massless link
   Vector3<S> centerOfMass = Vector3<S>::Zero();  ///< (m)
-  Matrix3<S> inertia = Matrix3<S>::Identity();   ///< About the centre of mass (kg m^2), SPD.
+  /// About the centre of mass, in the link's axes (kg m^2): the full symmetric tensor, SPD
+  /// (zero for a massless link).
+  Matrix3<S> inertia = Matrix3<S>::Identity();
 };
 
 /// A shape of a link, at `pose` in the link's frame, of uniform `density` (kg/m^3).
@@ -115,10 +119,11 @@ template <class S>
 class Model {
  public:
   /// Adds a link and returns its index. Throws InvalidArgument naming the link and the field for
-  /// a parent that does not exist yet, a floating joint below another link, a non-positive or
+  /// a parent that does not exist yet, a floating joint below another link, a negative or
   /// non-finite mass, an inertia that is not symmetric positive definite or breaks the triangle
-  /// inequality, a zero axis, limits with lower > upper, negative damping, friction, armature or
-  /// velocity limit, or a drive (or limits) on a joint that is not revolute or prismatic.
+  /// inequality (not zero, for a massless link), a zero axis, limits with lower > upper, negative
+  /// damping, friction, armature or velocity limit, or a drive (or limits) on a joint that is not
+  /// revolute or prismatic.
   int addLink(const LinkSettings<S>& settings);
 
   int linkCount() const { return static_cast<int>(links_.size()); }
@@ -164,5 +169,10 @@ class Model {
   std::vector<int> scalarQ_;
   int nq_ = 0, nv_ = 0;
 };
+
+/// The first link whose joint has degrees of freedom but moves no mass (the link and all its
+/// descendants massless: the mass matrix would be singular), or -1 when there is none.
+template <class S>
+int firstLinkMovingNoMass(const Model<S>& model);
 
 }  // namespace inertia::articulation
