@@ -261,7 +261,7 @@ std::vector<SolverBody> bundledPasses(std::vector<ContactConstraint>& cs,
   BiasMode relax = mode;
   relax.useBias = false;
   bundles.beginApproach(bodies);
-  bundles.updateApproach(bodies, Real(1) / 240);
+  bundles.updateApproach(bodies, Real(1) / 240, Real(1) / 240);
   bundles.warmStart(bodies, arena);
   for (int it = 0; it < 3; ++it) bundles.solve(bodies, mode, arena);
   for (SolverBody& b : bodies) b.dp += b.v / 240;
@@ -342,7 +342,7 @@ TEST(ContactSolver, BundledLanesEqualConstraintsSolvedOneByOne) {
   BiasMode relax = mode;
   relax.useBias = false;
   beginApproach(seq, b);
-  updateApproach(seq, b, Real(1) / 240);
+  updateApproach(seq, b, Real(1) / 240, Real(1) / 240);
   warmStart(seq, b);
   for (int it = 0; it < 3; ++it) solve(seq, b, mode);
   for (SolverBody& body : b) body.dp += body.v / 240;
