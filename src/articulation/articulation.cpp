@@ -1,5 +1,5 @@
 // An articulation stepping in time: the smooth dynamics by ABA under semi-implicit Euler or the
-// ode layer's RK4, then the joint-space constraint stage (joint_rows.cpp).
+// ode layer's RK4, and the joint-space constraint rows (joint_rows.cpp).
 #include "inertia/articulation/articulation.h"
 
 #include <cmath>
@@ -23,8 +23,11 @@ Articulation<S>::Articulation(Model<S> model, const ArticulationSettings<S>& set
   q_ = model_.neutralConfiguration();
   qd_ = tau_ = qdd_ = impulse_ = VectorX<S>::Zero(model_.nv());
   y_.resize(model_.nq() + model_.nv());
-  column_.assign(model_.nv(), -1);
+  base_ = lowStop_ = highStop_ = VectorX<S>::Zero(model_.nv());
+  Minv_.resize(model_.nv(), model_.nv());
+  columnReady_.assign(model_.nv(), 0);
   hasLimitRow_.assign(2 * model_.nv(), 0);
+  lastImpulse_.assign(std::size_t(kRowKinds * model_.nv()), S(0));
 }
 
 template <class S>
@@ -71,41 +74,54 @@ template <class S>
 void Articulation<S>::step(S h) {
   require(std::isfinite(h) && h > 0, "articulation: step: h must be finite and > 0");
   if (settings_.integrator == Integrator::SemiImplicitEuler) {
-    integrateVelocity(h);
+    smoothVelocity(h);
+    buildJointRows(h);
+    solveJointRows();
     integratePosition(h);
     return;
   }
+  // RK4 predicts (p, qd*); the rows then move the position with the velocity they change:
+  // q(t + h) = p (+) h (w - qd*).
   qStart_ = q_;
-  integrateSmooth(h);
+  integrateRk4(h);
+  qdSmooth_ = qd_;
+  aimLimits(qStart_, h, true);
   buildJointRows(h);
-  solveJointRows(h);
+  solveJointRows();
+  gatherImpulses();
+  qdSmooth_ = qd_ - qdSmooth_;
+  integrateConfiguration<S>(model_, q_, qdSmooth_, h);
   recoverLimits();
 }
 
 template <class S>
 void Articulation<S>::integrateVelocity(S h) {
+  smoothVelocity(h);
+  buildJointRows(h);
+  warmStartJointRows();
+}
+
+// Semi-implicit Euler's velocity update by ABA; the substep's rows end q at q + h w.
+template <class S>
+void Articulation<S>::smoothVelocity(S h) {
+  qStart_ = q_;
   aba<S>(model_, q_, qd_, tau_, qdd_, ws_);
   qd_ += h * qdd_;
+  aimLimits(q_, h, false);
 }
 
 template <class S>
 void Articulation<S>::integratePosition(S h) {
-  qStart_ = q_;
   integrateConfiguration<S>(model_, q_, qd_, h);
-  buildJointRows(h);
-  solveJointRows(h);
   recoverLimits();
+  gatherImpulses();
+  aimLimits(q_, h, false);
+  retargetLimitRows();
 }
 
+// RK4 on y = (q, qd): y' = (dq/dt(q, qd), aba(q, qd, tau)); quaternions renormalised after.
 template <class S>
-void Articulation<S>::integrateSmooth(S h) {
-  if (settings_.integrator == Integrator::SemiImplicitEuler) {
-    aba<S>(model_, q_, qd_, tau_, qdd_, ws_);
-    qd_ += h * qdd_;
-    integrateConfiguration<S>(model_, q_, qd_, h);
-    return;
-  }
-  // RK4 on y = (q, qd): y' = (dq/dt(q, qd), aba(q, qd, tau)); quaternions renormalised after.
+void Articulation<S>::integrateRk4(S h) {
   const int nq = model_.nq(), nv = model_.nv();
   y_ << q_, qd_;
   auto f = [&](S, ode::ConstView<S> y, ode::View<S> dy) {

@@ -51,19 +51,15 @@ void LinkResponse::linkVelocity(int link, Vec3& v, Vec3& w) const {
   w = baseRotation_ * wb;
 }
 
+// H at the step's start, factored once: the contacts' responses and the joint rows share it, so
+// that both are solved against one mass matrix.
 void LinkResponse::beginStep() {
   pointCount_ = 0;
-  factored_ = false;
+  articulation_.factorMassMatrix(articulation_.q());
 }
 
 int LinkResponse::addPoint(int member, const Vec3& point) {
   const Model<Real>& m = articulation_.model();
-  // H at the step's start, factored once, on the step's first contact point (none: no cost).
-  if (!factored_) {
-    crba<Real>(m, articulation_.q(), ws_);
-    ws_.llt.compute(ws_.H);
-    factored_ = true;
-  }
   if (std::size_t(pointCount_) == points_.size()) points_.emplace_back();
   Point& pt = points_[std::size_t(pointCount_)];
   pt.link = member;
@@ -78,7 +74,7 @@ int LinkResponse::addPoint(int member, const Vec3& point) {
       pt.J.col(k) = baseRotation_ * (s.tail<3>() + s.head<3>().cross(p));
     }
   }
-  pt.MinvJt = ws_.llt.solve(pt.J.transpose());
+  pt.MinvJt = articulation_.massMatrixFactor().solve(pt.J.transpose());
   pt.W = pt.J * pt.MinvJt;
   return pointCount_++;
 }

@@ -148,6 +148,11 @@ void integrateMultibodyPositions(Data& D, Real h, StepWorkers& workers) {
   });
 }
 
+void solveMultibodyRows(Data& D) {
+  for (MultibodyGroup& g : D.multibodies)
+    if (g.response) g.response->solveRows();
+}
+
 void warmStartMultibodyContacts(Data& D) {
   for (const MultibodyContact& c : D.multibodyContacts) {
     for (int k = 0; k < c.pointCount; ++k) {

@@ -24,6 +24,9 @@ void integrateMultibodyPositions(RigidBodyData& D, Real h, StepWorkers& workers)
 void warmStartMultibodyContacts(RigidBodyData& D);
 /// One pass over the rows.
 void solveMultibodyContacts(RigidBodyData& D, const BiasMode& mode);
+/// One pass over each group's own rows (an articulation's joint rows), in group order, after
+/// the contacts' pass: the joints answer the contacts' impulses in the same iteration.
+void solveMultibodyRows(RigidBodyData& D);
 /// Newton's impact law after the substeps, then the impulses into the contacts.
 void restituteMultibodyContacts(RigidBodyData& D, Real threshold);
 void storeMultibodyContacts(RigidBodyData& D);

@@ -220,8 +220,10 @@ void solve(Data& D, const BiasMode& mode, const JointPass& jointPass, int iterat
         [&](std::uint32_t first, std::size_t count) {
           D.bundles.solve(D.solverBodies.data(), mode, first, count);
         });
-    // The contacts on driven bodies, in sequence after the colours (multibody_contacts.h).
+    // The contacts on driven bodies, then the groups' own rows, in sequence after the colours
+    // (multibody_contacts.h).
     solveMultibodyContacts(D, mode);
+    solveMultibodyRows(D);
   }
 }
 
@@ -284,10 +286,13 @@ void solveIslandsLcp(Data& D, const BiasMode& mode, const JointPass& jointPass, 
     else
       solveIslandPgs(D, island, rigid, jointPass, iterations);
   }
-  // The contacts on driven bodies are not in the LCPs: pgs passes after them.
-  if (D.multibodyContacts.empty()) return;
+  // The contacts on driven bodies and the groups' own rows are not in the LCPs: pgs passes
+  // after them.
   warmStartMultibodyContacts(D);
-  for (int it = 0; it < iterations; ++it) solveMultibodyContacts(D, rigid);
+  for (int it = 0; it < iterations; ++it) {
+    solveMultibodyContacts(D, rigid);
+    solveMultibodyRows(D);
+  }
 }
 
 // The impulses into the contacts, for the next step's warm start and for the user.

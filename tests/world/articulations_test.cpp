@@ -4,8 +4,11 @@
 // static torque balance, and byte-identical results at 1 and 2 threads.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <tuple>
+#include <vector>
 
 #include "inertia/articulation/builders.h"
 #include "inertia/articulation/dynamics.h"
@@ -282,6 +285,103 @@ TEST(WorldArticulations, DeterministicAtOneAndTwoThreads) {
   const art::VectorX<Real>& q2 = two.world.articulation(two.arm).q();
   EXPECT_EQ(std::memcmp(q1.data(), q2.data(), sizeof(Real) * std::size_t(q1.size())), 0);
 }
+
+namespace {
+
+// A planar "table": a trunk (the floating base) on two legs, front and back, each a thigh and a
+// shin on hinges about z with a flat box foot (wide along z, so it cannot tip sideways). Hips
+// at +theta, knees at -2 theta: each shin comes back under its hip, the foot flat on the
+// ground. `locked`: every hinge's limits are [q, q], no drives, so the table is one rigid body.
+struct Table {
+  static constexpr Real theta = Real(0.5), leg = Real(0.2), trunkHalfHeight = Real(0.05),
+                        footHalfHeight = Real(0.02);
+  // The kinematic height of the trunk's centre: foot, shin and thigh straight below the hip.
+  static Real height() { return footHalfHeight + 2 * leg * std::cos(theta) + trunkHalfHeight; }
+  World world;
+  ArticulationId table;
+  Table(int substeps, SolverType solver)
+      : world({.substeps = substeps, .solver = {.type = solver}, .threads = 1}) {
+    const BodyId ground = world.createBody({.type = BodyType::Static});
+    world.addShape(ground, Plane{Vec3::UnitY(), 0}, Material{.friction = Real(0.8)});
+    WorldArticulationSettings s;
+    s.name = "table";
+    const Real mt = 4, ml = Real(0.5);
+    s.model.addLink({.name = "trunk",
+                     .joint = {.type = art::JointType::Floating},
+                     .inertia = {mt, Vec3::Zero(), Mat3::Identity() * Real(0.05)}});
+    s.shapes.push_back({.link = 0, .shape = Box{Vec3(Real(0.3), trunkHalfHeight, Real(0.2))}});
+    const art::LinkInertia<Real> rod{ml, Vec3(0, -leg / 2, 0), Mat3::Identity() * Real(0.002)};
+    for (const Real x : {Real(0.25), Real(-0.25)}) {
+      const int thigh = s.model.linkCount();
+      s.model.addLink({.name = x > 0 ? "front_thigh" : "back_thigh",
+                       .parent = 0,
+                       .joint = {.originPosition = Vec3(x, -trunkHalfHeight, 0),
+                                 .lower = theta,
+                                 .upper = theta},
+                       .inertia = rod});
+      s.model.addLink(
+          {.name = x > 0 ? "front_shin" : "back_shin",
+           .parent = thigh,
+           .joint = {.originPosition = Vec3(0, -leg, 0), .lower = -2 * theta, .upper = -2 * theta},
+           .inertia = rod});
+      // The shin leans by theta - 2 theta = -theta: its foot turned back by +theta lies flat.
+      s.shapes.push_back(
+          {.link = thigh + 1,
+           .shape = Box{Vec3(Real(0.06), footHalfHeight, Real(0.2))},
+           .pose = {Vec3(0, -leg, 0), Quat(Eigen::AngleAxis<Real>(theta, Vec3::UnitZ()))},
+           .material = {.friction = Real(0.8)}});
+    }
+    s.base.p = Vec3(0, height(), 0);
+    s.q = s.model.neutralConfiguration();
+    for (int k : {7, 9}) s.q(k) = theta;
+    for (int k : {8, 10}) s.q(k) = -2 * theta;
+    table = world.createArticulation(s);
+  }
+};
+
+}  // namespace
+
+// Regression (the quadruped's glide, issue 18): a robot standing on legs locked by their limits
+// glided along the ground, because its joint rows were solved after the contacts (and the
+// contacts' relax pass after them), so that each substep ended with velocities that one side
+// had never answered: legs sweeping back at a constant rate that the feet's friction did not
+// see as slip. Solved in the same iterations, the table, one rigid body on two flat feet with
+// no horizontal force on it, is at rest: after 2 s, over the next second no link moves.
+// Tolerances: the trunk's height within the contacts' linear slop (0.005 m) and a margin of
+// 0.005 m for the soft contacts' overlap, as FloatingChain; speeds below 1e-3 m/s, a tenth of
+// kStickSpeed (0.01 m/s, where friction begins to treat a contact as sliding); the drift over
+// the second below 1e-3 m. The defect glided at about 0.1 m/s, and a soft contact at rest
+// moves only by its solver's residual (measured about 1e-6 m/s).
+class LockedTable : public testing::TestWithParam<std::tuple<int, SolverType>> {};
+
+TEST_P(LockedTable, StandsStillWithoutGliding) {
+  const auto [substeps, solver] = GetParam();
+  Table scene(substeps, solver);
+  World& world = scene.world;
+  const Real dt = Real(1) / 60;
+  for (int i = 0; i < 120; ++i) world.step(dt);
+  std::vector<Vec3> before;
+  for (int l = 0; l < 5; ++l) before.push_back(world.transform(world.linkBody(scene.table, l)).p);
+  Real fastest = 0;
+  for (int i = 0; i < 60; ++i) {
+    world.step(dt);
+    for (int l = 0; l < 5; ++l)
+      fastest = std::max(fastest, world.linearVelocity(world.linkBody(scene.table, l)).norm());
+  }
+  Real drift = 0;
+  for (int l = 0; l < 5; ++l)
+    drift = std::max(
+        drift, (world.transform(world.linkBody(scene.table, l)).p - before[std::size_t(l)]).norm());
+  const art::Articulation<Real>& a = world.articulation(scene.table);
+  EXPECT_NEAR(world.transform(world.linkBody(scene.table, 0)).p.y(), Table::height(), Real(0.01));
+  EXPECT_LT(fastest, Real(1e-3));
+  EXPECT_LT(drift, Real(1e-3));
+  EXPECT_LT(a.qd().cwiseAbs().maxCoeff(), Real(1e-3));
+}
+
+INSTANTIATE_TEST_SUITE_P(SubstepsAndSolvers, LockedTable,
+                         testing::Combine(testing::Values(4, 8),
+                                          testing::Values(SolverType::SoftStep, SolverType::Pgs)));
 
 TEST(WorldArticulations, RejectsBadSettingsAndLinkJoints) {
   World world;

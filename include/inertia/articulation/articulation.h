@@ -19,6 +19,8 @@
 //         (Catto's soft constraints: the force k (q_target - q(t + h)) + c (v_target - qd(t + h)),
 //         at most maxForce): unconditionally stable whatever the gains.
 //     The stage is first order whatever the integrator, and is skipped when no row is active.
+// In a World the rows are not a stage of their own: they are swept in the contacts' solve and
+// relax iterations, warm-started from the last substep (link_response.h, integrateVelocity).
 #pragma once
 
 #include "inertia/articulation/dynamics.h"
@@ -62,45 +64,69 @@ class Articulation {
   /// Advances by h seconds (h > 0 and finite, else InvalidArgument).
   void step(S h);
 
-  /// The step in two halves, for a world that solves contacts between them (World's substeps,
-  /// link_response.h): the smooth velocity update by ABA (semi-implicit Euler whatever the
-  /// integrator), then the position update and the joint-space constraint stage. With
-  /// semi-implicit Euler, integrateVelocity(h); integratePosition(h) is step(h). No checks.
+  /// The step in parts, for a world that solves its contacts and these rows together (World's
+  /// substeps, link_response.h), under semi-implicit Euler whatever the integrator:
+  ///   factorMassMatrix(q()) once per step: H (CRBA) and its Cholesky factor, whose inverse
+  ///     the joint rows use (and the world's contacts, massMatrixFactor()) until the next call;
+  ///   per substep: integrateVelocity(h), the smooth velocity update by ABA, then the joint rows
+  ///     from the substep's start position; sweepJointRows() in each solver iteration, beside
+  ///     the contacts; integratePosition(h), q (+)= h qd, the recovery of violated limits, and
+  ///     the limit rows aimed from the new position, for sweepJointRows() in relax iterations.
+  /// With semi-implicit Euler, step(h) is these with constraintIterations sweeps. No checks.
+  void factorMassMatrix(const VectorX<S>& q);
+  const Eigen::LLT<MatrixX<S>>& massMatrixFactor() const { return ws_.llt; }
   void integrateVelocity(S h);
+  void sweepJointRows();
   void integratePosition(S h);
   /// Adds `delta` to the velocity qd (a contact's impulse through the mass matrix). No checks.
   void addVelocity(const ConstRef<S>& delta) { qd_ += delta; }
   /// Gravity in the base frame (m/s^2).
   void setGravity(const Vector3<S>& g) { model_.gravity = g; }
 
-  /// Generalised impulses (N m s or N s) of the last step's constraint stage, per dof.
+  /// Generalised impulses (N m s or N s) of the joint rows in the last step (in a world, the
+  /// last substep's solve), per dof.
   const VectorX<S>& constraintImpulses() const { return impulse_; }
 
  private:
-  void integrateSmooth(S h);
+  void integrateRk4(S h);
+  void smoothVelocity(S h);
+  void aimLimits(const VectorX<S>& from, S h, bool afterSmooth);
   void buildJointRows(S h);
-  bool addLimitRows(S h);
+  bool addLimitRows();
+  void retargetLimitRows();
+  typename MatrixX<S>::ColXpr inverseMassColumn(int dof);
+  void sweepRows();
+  void solveJointRows();
+  void gatherImpulses();
   void recoverLimits();
-  void solveJointRows(S h);
 
   Model<S> model_;
   ArticulationSettings<S> settings_;
   VectorX<S> q_, qd_, tau_, qdd_, impulse_;
   VectorX<S> qStart_, qdSmooth_;  // q at the step's start; qd after the smooth stage
+  // Per dof: a scalar dof ends the step at base_ + h_ w; its limits' stops.
+  VectorX<S> base_, lowStop_, highStop_;
+  S h_ = 0;
   Workspace<S> ws_;
   ode::Workspace<S> odeWs_;
   VectorX<S> y_;  // (q, qd) stacked for RK4
+  // Each row's effect, which with its dof names it from one substep to the next (warm start).
+  enum RowKind { kDamping, kFriction, kDrive, kSpeedMax, kSpeedMin, kLower, kUpper, kRowKinds };
   struct Row {
     int dof = 0;
+    RowKind kind = kDamping;
     S target = 0;      // velocity the row drives its dof to
     S softness = 0;    // gamma: 0 for a hard row
     S lo = 0, hi = 0;  // impulse bounds
     S lambda = 0;
   };
+  Row limitRow(int dof, RowKind kind) const;
+  void warmStartJointRows();
   std::vector<Row> rows_;
-  MatrixX<S> Minv_;                // columns H^-1 e_dof for the rows' dofs
-  std::vector<int> column_;        // dof -> column of Minv_, -1 when none
+  MatrixX<S> Minv_;  // column k: H^-1 e_k, once columnReady_[k]
+  std::vector<char> columnReady_;
   std::vector<char> hasLimitRow_;  // per dof: lower, upper
+  std::vector<S> lastImpulse_;     // per kind and dof: the last substep's lambda
 };
 
 }  // namespace inertia::articulation

@@ -2,14 +2,16 @@
 // response of the links' points to contact impulses through the tree's mass matrix, and the
 // articulation's substeps inside the rigid bodies' own.
 //
-// At the step's start the mass matrix H is built (CRBA) and factored (Cholesky) once (when the
-// articulation has a contact); each
+// At the step's start the mass matrix H is built (CRBA) and factored (Cholesky) once; each
 // contact point p on link i gets its Jacobian J (3 x nv, world axes: the point's velocity is
 // J qd) and H^-1 J^T, so that an impulse P on it changes the velocities by H^-1 J^T P (every
 // link moves), and the point's response is W = J H^-1 J^T. Both are kept for the step (as a
-// rigid contact keeps its anchors). Each substep runs Articulation::integrateVelocity before the
-// contacts are solved and Articulation::integratePosition (positions, then limits, drives,
-// friction) after.
+// rigid contact keeps its anchors). The articulation's joint rows (limits, drives, damping,
+// friction, velocity limits) use the same factor and are swept in every solve and relax
+// iteration beside the contacts (solveRows), so that a substep ends with velocities that both
+// the contacts and the joints have answered: Articulation::integrateVelocity makes the rows
+// from the substep's start position, Articulation::integratePosition moves q by h qd and aims
+// the limit rows from there for the relax pass.
 #pragma once
 
 #include <vector>
@@ -45,6 +47,7 @@ class LinkResponse final : public MultibodyResponse {
   Vec3 pointDisplacement(int handle) const override;
   void applyImpulse(int handle, const Vec3& impulse) override;
   void integrateVelocities(Real h) override { articulation_.integrateVelocity(h); }
+  void solveRows() override { articulation_.sweepJointRows(); }
   void integratePositions(Real h) override;
 
  private:
@@ -66,7 +69,6 @@ class LinkResponse final : public MultibodyResponse {
   std::vector<PluckerTransform<Real>> X0_;  // base to link, now
   std::vector<Point> points_;               // grows, kept between steps (no reallocation)
   int pointCount_ = 0;
-  bool factored_ = false;  // ws_.llt holds this step's H
   VectorX<Real> delta_;  // scratch of applyImpulse
 };
 

@@ -13,7 +13,8 @@ namespace inertia {
 /// Within RigidBodySystem::step the calls come in this order, from one thread per group:
 ///   beginStep(); addPoint() for each contact point on a member;
 ///   per substep: integrateVelocities(h); pointVelocity() / applyImpulse() while the contacts
-///     are solved; integratePositions(h); pointVelocity() / applyImpulse() in the relax pass;
+///     are solved, and solveRows() once per iteration after them; integratePositions(h);
+///     the same in the relax pass;
 /// and then, after the step, the owner moves the member bodies (RigidBodySystem::setDrivenState).
 /// The virtual calls are made in sequence, never from parallel workers.
 class MultibodyResponse {
@@ -34,6 +35,10 @@ class MultibodyResponse {
   virtual void applyImpulse(int handle, const Vec3& impulse) = 0;
   /// The substep's velocity update (gravity, joint forces), then its position update.
   virtual void integrateVelocities(Real h) = 0;
+  /// One Gauss-Seidel pass over the group's own rows (an articulation's joint limits and
+  /// drives), in each solve and relax iteration beside its contacts, so that the substep's
+  /// velocities answer both.
+  virtual void solveRows() = 0;
   virtual void integratePositions(Real h) = 0;
 };
 
