@@ -21,7 +21,6 @@ LinkResponse::LinkResponse(const LinkResponse& other, Articulation<Real>& articu
       X0_(other.X0_),
       points_(other.points_),
       pointCount_(other.pointCount_),
-      factored_(other.factored_),
       delta_(other.delta_) {}
 
 void LinkResponse::updatePoses() {
