@@ -631,18 +631,18 @@ void beginApproachSlice(WideConstraint& c, const Slice& at, const SolverBody* bo
 // normal acceleration a = (v1 - v0) / h, v^2 = v0^2 - 2 a s, whatever the time of the impact
 // within the substep (the velocity of the whole substep, v1, is up to |a| h off).
 //
-// `flight` is the substep of a symplectic Euler flight (0 for an exact one). Symplectic Euler
-// under a constant acceleration conserves the modified energy Q = v^2 - 2 a y + a h v, not
-// v^2 - 2 a y: a body dropped from rest at height H meets the ground at a speed V with
-// V^2 + a h V = -2 a H, |a| h / 2 slower than sqrt(2 |a| H), and one launched at U climbs to
-// (U^2 + a h U) / (-2 a). Newton's law on the modified energy, Q after = e^2 Q before, brings it
-// back to e^2 H: U = (sqrt((a h)^2 + 4 e^2 (V^2 + a h V)) - a h) / 2. The point keeps -U / e,
-// so that restitution (e times the approach) launches it at U; with h = 0, U = e |V|.
+// `flight` is the flight integrator's lag (flightLag: h for symplectic Euler, 0 for an exact
+// method). Symplectic Euler under a constant acceleration conserves the modified energy
+// Q = v^2 - 2 a y + a h v, not v^2 - 2 a y: a body dropped from rest at height H meets the
+// ground at a speed V with V^2 + a h V = -2 a H, |a| h / 2 slower than sqrt(2 |a| H), and one
+// launched at U climbs to (U^2 + a h U) / (-2 a). Newton's law on the modified energy,
+// Q after = e^2 Q before, brings the apex back to e^2 H:
+// U = (sqrt((a h)^2 + 4 e^2 (V^2 + a h V)) - a h) / 2, the point's launch (e |V| for h = 0).
 void updateApproachSlice(WideConstraint& c, const Slice& at, const SolverBody* bodies, Real invH,
                          Real flight) {
   const Side a = gather(c.bodyA, at, bodies), b = gather(c.bodyB, at, bodies);
   const V3 n = at(c.normal);
-  const Pack zero = Pack::zero(), one = Pack::splat(1);
+  const Pack zero = Pack::zero();
   const Pack e = at(c.restitution);
   for (int i = 0; i < c.pointCount; ++i) {
     WidePoint& p = c.points[std::size_t(i)];
@@ -650,13 +650,13 @@ void updateApproachSlice(WideConstraint& c, const Slice& at, const SolverBody* b
     const Pack v1 = rowVelocity(a, b, n, at(p.rnA), at(p.rnB));
     const Pack accel = (v1 - v0) * Pack::splat(invH);
     const Pack squared = v0 * v0 - (accel + accel) * at(p.separation);
-    const Pack impact = zero - sqrt(max(squared, zero));
+    const Pack impact = select(v1 < zero, zero - sqrt(max(squared, zero)), v1);
     const Pack ah = accel * Pack::splat(flight);
     const Pack modified = max(impact * impact + ah * impact, zero);
     const Pack launch = (sqrt(ah * ah + Pack::splat(4) * e * e * modified) - ah) * Pack::splat(0.5);
-    const Pack approach = zero - launch / select(e != zero, e, one);
-    at.store(select(approaching(c, p, at), select(v1 < zero, approach, v1), v0),
-             p.relativeVelocity);
+    const Mask update = approaching(c, p, at);
+    at.store(select(update, impact, v0), p.relativeVelocity);
+    at.store(select(update, select(v1 < zero, launch, zero), at(p.launch)), p.launch);
   }
 }
 
@@ -674,7 +674,7 @@ void restitutionSlice(WideConstraint& c, const Slice& at, SolverBody* bodies, Re
     const Mask hit = bouncy & (approach <= Pack::splat(-threshold)) & (maxImpulse != zero);
     const Pack vn = rowVelocity(a, b, n, at(p.rnA), at(p.rnB));
     const Pack accumulated = at(p.normalImpulse);
-    const Pack wanted = select(hit, -at(p.normalMass) * (vn + e * approach), zero);
+    const Pack wanted = select(hit, at(p.normalMass) * (at(p.launch) - vn), zero);
     const Pack updated = max(accumulated + wanted, zero);
     const Pack impulse = updated - accumulated;
     at.store(updated, p.normalImpulse);

@@ -191,6 +191,7 @@ void packLane(WideConstraint& w, WideInertia& inertia, int l, const ContactConst
     q.normalImpulse.lane[l] = p.normalImpulse;
     q.maxNormalImpulse.lane[l] = p.maxNormalImpulse;
     q.relativeVelocity.lane[l] = p.relativeVelocity;
+    q.launch.lane[l] = p.launch;
     for (std::size_t k = 0; k < 2; ++k) q.tangentImpulse[k].lane[l] = p.tangentImpulse[k];
   }
 }
@@ -360,6 +361,7 @@ void ContactBundles::store(std::vector<ContactConstraint>& cs, StepWorkers& work
           p.normalImpulse = q.normalImpulse.lane[l];
           p.maxNormalImpulse = q.maxNormalImpulse.lane[l];
           p.relativeVelocity = q.relativeVelocity.lane[l];
+          p.launch = q.launch.lane[l];
           for (std::size_t k = 0; k < 2; ++k) p.tangentImpulse[k] = q.tangentImpulse[k].lane[l];
         }
         if (c.rolling > 0 || c.spinning > 0) {

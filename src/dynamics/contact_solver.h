@@ -52,6 +52,9 @@ struct ConstraintPoint {
   /// Normal velocity (m/s): at the step's start, then the approach speed at impact
   /// (ContactBundles::updateApproach), for restitution.
   Real relativeVelocity = 0;
+  /// The normal speed restitution leaves the point with (m/s, >= 0): e times the approach
+  /// speed, on the flight integrator's modified energy (updateApproach).
+  Real launch = 0;
 };
 
 struct ContactConstraint {
@@ -116,7 +119,7 @@ struct WidePoint {
   /// The current separation (m): adjustedSeparation plus the bodies' motion since the step's
   /// start, refreshed by ContactBundles::build and updateMotion.
   WideReal separation;
-  WideReal normalImpulse, tangentImpulse[2], maxNormalImpulse, relativeVelocity;
+  WideReal normalImpulse, tangentImpulse[2], maxNormalImpulse, relativeVelocity, launch;
   WideReal rnA[3], rnB[3], wnA[3], wnB[3];
   WideReal rtA[2][3], rtB[2][3], wtA[2][3], wtB[2][3];
 };

@@ -99,6 +99,7 @@ void prepareContact(Data& D, const DynamicsSettings& s, ContactConstraint& c, co
       p.tangentImpulse[t] = extra.tangentImpulse[static_cast<std::size_t>(k)].dot(c.tangent[t]);
     const Vec3& dv = dvs[std::size_t(k)];
     p.relativeVelocity = dv.dot(c.normal);
+    p.launch = c.restitution * std::max(-p.relativeVelocity, Real(0));
     tangentialSpeed2 =
         std::max(tangentialSpeed2, (dv - p.relativeVelocity * c.normal).squaredNorm());
   }

@@ -141,6 +141,7 @@ TEST(ContactSolver, RestitutionReversesTheApproachSpeed) {
     std::vector<ContactConstraint> cs{pointContact(0, 0)};
     cs[0].restitution = Real(0.5);
     cs[0].points[0].relativeVelocity = -approach;
+    cs[0].points[0].launch = Real(0.5) * approach;  // as prepared: e times the approach speed
     computeMasses(cs[0], SolverBody{}, bodies[0]);
     BiasMode mode;
     mode.soft = false;
@@ -199,6 +200,8 @@ void randomGraph(std::mt19937_64& rng, int bodyCount, int count, std::vector<Sol
     }
     c.friction = Real(0.5);
     c.restitution = cs.size() % 3 == 0 ? Real(0.3) : Real(0);
+    for (int k = 0; k < c.pointCount; ++k)
+      c.points[std::size_t(k)].launch = c.restitution * -c.points[std::size_t(k)].relativeVelocity;
     if (cs.size() % 5 == 0) {
       c.rolling = Real(0.02);
       c.spinning = Real(0.01);

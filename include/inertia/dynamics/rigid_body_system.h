@@ -124,9 +124,7 @@ struct ContactEvent {
   ShapeId shapeB;
   Vec3 point = Vec3::Zero();   ///< A contact point (m, world); the last known one for an end.
   Vec3 normal = Vec3::UnitY(); ///< From A to B.
-  /// Normal approach speed at the start (m/s, >= 0), for sounds: the one restitution answered
-  /// (README, Restitution).
-  Real approachSpeed = 0;
+  Real approachSpeed = 0;      ///< Normal approach speed at the start (m/s, >= 0), for sounds.
 };
 
 /// A ray hit in the world.
