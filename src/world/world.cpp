@@ -9,6 +9,7 @@
 #include "dynamics/step_workers.h"
 #include "inertia/articulation/link_response.h"
 #include "inertia/core/error.h"
+#include "slots.h"
 
 namespace inertia {
 
@@ -294,16 +295,18 @@ namespace {
 template <class Slot, class T>
 void restoreSlots(std::vector<Slot>& slots, std::unique_ptr<T> Slot::*member,
                   const std::vector<std::pair<std::shared_ptr<const T>, std::uint32_t>>& saved) {
-  slots.resize(saved.size());
+  detail::prepareRestoredSlots(slots, member, saved.size());
   for (std::size_t i = 0; i < saved.size(); ++i) {
     std::unique_ptr<T>& live = slots[i].*member;
+    const bool wasLive = live != nullptr;
     if (!saved[i].first)
       live.reset();
     else if (live)
       *live = *saved[i].first;
     else
       live = std::make_unique<T>(*saved[i].first);
-    slots[i].generation = saved[i].second;
+    slots[i].generation = detail::restoredGeneration(saved[i].first != nullptr, saved[i].second,
+                                                     slots[i].generation, wasLive);
   }
 }
 

@@ -7,6 +7,7 @@
 #include "inertia/core/error.h"
 #include "inertia/core/math.h"
 #include "inertia/world/world.h"
+#include "slots.h"
 
 namespace inertia {
 
@@ -143,6 +144,8 @@ void World::saveArticulations(State& state) const {
       saved->links = slot.links;
       saved->group = slot.group;
       saved->name = slot.name;
+      // The State's bodies answer to the State's response, not to this world's.
+      state.bodies.setMultibodyResponse(slot.group, saved->response.get());
     }
     state.articulations.emplace_back(std::move(saved), slot.generation);
   }
@@ -152,14 +155,17 @@ void World::saveArticulations(State& state) const {
 // place), and each group of the restored bodies pointed at its slot's response, which the
 // saved bodies knew by the address of the response of the world that saved them.
 void World::restoreArticulations(const State& state) {
-  articulationSlots_.resize(state.articulations.size());
+  detail::prepareRestoredSlots(articulationSlots_, &ArticulationSlot::articulation,
+                               state.articulations.size());
   for (std::size_t i = 0; i < state.articulations.size(); ++i) {
     ArticulationSlot& slot = articulationSlots_[i];
     const auto& [saved, generation] = state.articulations[i];
-    slot.generation = generation;
+    slot.generation = detail::restoredGeneration(saved != nullptr, generation, slot.generation,
+                                                 slot.articulation != nullptr);
     if (!saved) {
+      const std::uint32_t kept = slot.generation;
       slot = ArticulationSlot{};
-      slot.generation = generation;
+      slot.generation = kept;
       continue;
     }
     if (slot.articulation)

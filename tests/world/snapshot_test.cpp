@@ -159,6 +159,7 @@ TEST(WorldSnapshot, RestoreBringsBackTheSavedSlots) {
   s.world.destroyDeformable(s.cloth);
   s.world.destroyArticulation(s.pendulum);
   const ParticleSystemId extra = s.world.createParticleSystem({});
+  const ParticleSystemId beyond = s.world.createParticleSystem({});  // a slot the State lacks
   steps(s.world, 5);
   s.world.restoreState(saved);
   EXPECT_TRUE(s.world.isValid(s.verlet));
@@ -168,6 +169,15 @@ TEST(WorldSnapshot, RestoreBringsBackTheSavedSlots) {
   // The new system took the verlet system's free slot with the next generation.
   EXPECT_FALSE(s.world.isValid(extra));
   EXPECT_THROW(s.world.particleSystem(extra), InvalidArgument);
+  // Ids handed out since the save stay invalid, also once their slots are taken again.
+  EXPECT_FALSE(s.world.isValid(beyond));
+  const ParticleSystemId later = s.world.createParticleSystem({});
+  const ParticleSystemId later2 = s.world.createParticleSystem({});
+  EXPECT_NE(later, beyond);
+  EXPECT_NE(later2, beyond);
+  EXPECT_FALSE(s.world.isValid(beyond));
+  s.world.destroyParticleSystem(later);
+  s.world.destroyParticleSystem(later2);
   EXPECT_EQ(stateBytes(s.world), atSave);
 }
 
