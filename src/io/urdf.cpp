@@ -99,6 +99,7 @@ struct Reader {
   art::JointSettings<Real> jointSettings(const urdf::Joint& j) const;
   std::filesystem::path meshPath(const std::string& filename, const std::string& link) const;
   Shape collisionShape(const urdf::Geometry& g, const std::string& link, Transform& pose) const;
+  Real size(double value, const std::string& link, const char* what) const;
   void addLink(const urdf::Link& link, int parent, const urdf::Joint* joint, bool floatingRoot);
 };
 
@@ -161,19 +162,29 @@ std::filesystem::path Reader::meshPath(const std::string& filename, const std::s
   return p.is_absolute() ? p : directory / p;
 }
 
+Real Reader::size(double value, const std::string& link, const char* what) const {
+  if (!(std::isfinite(value) && value > 0))
+    fail("link '" + link + "': the collision " + what + " must be finite and > 0");
+  return Real(value);
+}
+
 Shape Reader::collisionShape(const urdf::Geometry& g, const std::string& link,
                              Transform& pose) const {
   switch (g.type) {
     case urdf::Geometry::SPHERE:
-      return Sphere{Real(static_cast<const urdf::Sphere&>(g).radius)};
-    case urdf::Geometry::BOX:
-      return Box{Real(0.5) * vec(static_cast<const urdf::Box&>(g).dim)};
+      return Sphere{size(static_cast<const urdf::Sphere&>(g).radius, link, "sphere's radius")};
+    case urdf::Geometry::BOX: {
+      const urdf::Vector3& d = static_cast<const urdf::Box&>(g).dim;
+      return Box{Real(0.5) * Vec3(size(d.x, link, "box's size"), size(d.y, link, "box's size"),
+                                  size(d.z, link, "box's size"))};
+    }
     case urdf::Geometry::CYLINDER: {
       // URDF's cylinder is along z, ours along y: turn y onto z (+90 degrees about x).
       const auto& c = static_cast<const urdf::Cylinder&>(g);
       pose.q = (pose.q * Quat(Eigen::AngleAxis<Real>(std::numbers::pi_v<Real> / 2, Vec3::UnitX())))
                    .normalized();
-      return Cylinder{Real(c.radius), Real(0.5 * c.length)};
+      return Cylinder{size(c.radius, link, "cylinder's radius"),
+                      Real(0.5) * size(c.length, link, "cylinder's length")};
     }
     case urdf::Geometry::MESH: {
       const auto& m = static_cast<const urdf::Mesh&>(g);
@@ -260,6 +271,13 @@ UrdfRobot parseUrdf(const std::string& xml, const std::filesystem::path& name,
   r.robot.name = model->getName();
   if (const urdf::Joint* f = floatingFromWorld(*root)) {
     if (f->mimic) r.fail("joint '" + f->name + "': mimic joints are not supported");
+    const urdf::Pose& o = f->parent_to_joint_origin_transform;
+    double x, y, z, w;
+    o.rotation.getQuaternion(x, y, z, w);
+    if (o.position.x != 0 || o.position.y != 0 || o.position.z != 0 || x != 0 || y != 0 || z != 0)
+      r.fail("joint '" + f->name +
+             "': a floating base's origin must be the identity (the base is placed by the "
+             "scene's position and orientation)");
     const urdf::LinkConstSharedPtr base = model->getLink(f->child_link_name);
     r.robot.floatingBase = true;
     r.addLink(*base, -1, nullptr, true);

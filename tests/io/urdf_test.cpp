@@ -311,6 +311,22 @@ TEST_F(Urdf, BadFilesSayWhatIsWrong) {
   reason = errorOf(twoLinks(
       fixed, R"(<collision><geometry><mesh filename="junk.stl"/></geometry></collision>)"));
   EXPECT_NE(reason.find("junk.stl"), std::string::npos) << reason;
+  // Collision primitives of zero size (urdfdom reads them without complaint).
+  reason = errorOf(
+      twoLinks(fixed, R"(<collision><geometry><sphere radius="0"/></geometry></collision>)"));
+  EXPECT_NE(reason.find("link 'b': the collision sphere's radius must be finite and > 0"),
+            std::string::npos)
+      << reason;
+  reason = errorOf(
+      twoLinks(fixed, R"(<collision><geometry><box size="1 0 1"/></geometry></collision>)"));
+  EXPECT_NE(reason.find("link 'b': the collision box's size"), std::string::npos) << reason;
+  // A floating base whose origin would be dropped: the scene places the base.
+  reason = errorOf(R"(<robot name="r"><link name="world"/><link name="b">)" + inertial +
+                   R"(</link><joint name="free" type="floating"><origin xyz="0 0 1"/>
+      <parent link="world"/><child link="b"/></joint></robot>)");
+  EXPECT_NE(reason.find("joint 'free': a floating base's origin must be the identity"),
+            std::string::npos)
+      << reason;
   // A moving joint with no mass below it; a bad inertia.
   reason = errorOf(R"(<robot name="r"><link name="a">)" + inertial + R"(</link><link name="b"/>
       <joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint></robot>)");
