@@ -269,7 +269,9 @@ void bindWorldMethods(py::module_& m) {
            "name (default 'articulationN'): its links' bodies are named NAME/LINK; the base "
            "frame at position (m) and orientation [w, x, y, z] in the world; q (nq,) and qd "
            "(nv,) the initial state (default: the neutral configuration at rest); "
-           "constraint_iterations: Gauss-Seidel sweeps of the joint rows (1..1000); "
+           "constraint_iterations (1..1000): kept with the model, for C++'s Articulation::step "
+           "alone; in a world the joint rows are swept with the contacts, once per solver and "
+           "relax iteration of the world; "
            "limit_baumgarte: the fraction (0..1) of a limit's violation removed per step.")
       .def(
           "destroy_articulation",

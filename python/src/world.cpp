@@ -112,8 +112,8 @@ struct PyState {
 void restoreState(PyWorld& w, const PyState& s) {
   World& world = w.get();
   world.restoreState(s.state);
-  // The snapshot holds every body, joint, contact, particle system and deformable and the
-  // clock, but not the settings (which belong to the world): the recipe at the snapshot
+  // The snapshot holds every body, joint, contact, particle system, deformable, articulation and
+  // the clock, but not the settings (which belong to the world): the recipe at the snapshot
   // describes the world again only for its own snapshot.
   w.recipe = s.world == w.serial ? s.recipe : std::nullopt;
 }
@@ -200,7 +200,8 @@ void bindWorld(py::module_& m) {
 
   py::class_<PyState>(m, "WorldState",
                       "A snapshot of a world's rigid bodies, joints, contacts, particle "
-                      "systems, deformables and clock (save_state); restore_state continues "
+                      "systems, deformables, articulations and clock (save_state); "
+                      "restore_state continues "
                       "from it bit-identically.")
       .def_property_readonly(
           "time", [](const PyState& s) { return s.state.time; }, "Simulated time (s).")
@@ -634,7 +635,8 @@ void bindWorld(py::module_& m) {
           [](const PyWorld& w) {
             return PyState{w->saveState(), w.serial, w.recipe};
           },
-          "A snapshot of the bodies, joints, contacts, particle systems, deformables and clock.")
+          "A snapshot of the bodies, joints, contacts, particle systems, deformables, "
+          "articulations and clock.")
       .def("restore_state", &restoreState, py::arg("state"),
            "Continues from a snapshot bit-identically. A world restored to its own snapshot "
            "pickles as it did when the snapshot was taken.")

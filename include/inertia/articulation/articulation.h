@@ -36,7 +36,9 @@ enum class Integrator {
 template <class S>
 struct ArticulationSettings {
   Integrator integrator = Integrator::SemiImplicitEuler;
-  int constraintIterations = 20;  ///< Gauss-Seidel sweeps over the rows (1..1000).
+  /// Gauss-Seidel sweeps over the rows per step() (1..1000). In a World the rows are swept
+  /// with the contacts instead, once per solver and relax iteration (the world's iterations).
+  int constraintIterations = 20;
   S limitBaumgarte = S(0.2);      ///< Fraction of a limit's violation removed per step (0..1).
 };
 
