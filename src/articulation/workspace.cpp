@@ -15,6 +15,10 @@ void Workspace<S>::resize(const Model<S>& model) {
   bias.resize(model.nv());
   rhs.resize(model.nv());
   H.resize(model.nv(), model.nv());
+  // A factor of nothing, so that the factor has a status: Eigen leaves a default-constructed
+  // LLT's info uninitialised, and copying the workspace (an articulation in a snapshot) before
+  // the first factorisation would read it.
+  llt.compute(MatrixX<S>::Zero(0, 0));
 }
 
 template struct Workspace<float>;
