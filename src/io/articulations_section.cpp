@@ -1,6 +1,5 @@
 #include "articulations_section.h"
 
-#include <filesystem>
 #include <map>
 #include <optional>
 #include <string>
@@ -182,12 +181,8 @@ void readLinks(const Node& links, const MaterialTable& materials, bool floating,
 // A URDF robot (io/urdf.h), its path relative to the scene file's directory.
 UrdfRobot readUrdf(const Node& n, bool floating) {
   Node u = n.at("urdf");
-  const std::filesystem::path relative = u.string();
-  if (relative.empty()) u.fail("empty URDF path");
-  const std::filesystem::path path =
-      relative.is_absolute() ? relative : std::filesystem::path(n.file()).parent_path() / relative;
   try {
-    return loadUrdf(path, {.floatingBase = floating});
+    return loadUrdf(u.path("URDF"), {.floatingBase = floating});
   } catch (const UrdfError& e) {
     u.fail(e.what());
   }

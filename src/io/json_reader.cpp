@@ -99,6 +99,13 @@ std::string Node::string() const {
   return value_->get<std::string>();
 }
 
+std::filesystem::path Node::path(const char* what) const {
+  const std::filesystem::path relative = string();
+  if (relative.empty()) fail(std::string("empty ") + what + " path");
+  if (relative.is_absolute()) return relative;
+  return std::filesystem::path(file()).parent_path() / relative;
+}
+
 bool Node::boolean() const {
   if (!value_->is_boolean()) fail("expected true or false, got " + typeName(*value_));
   return value_->get<bool>();

@@ -2,12 +2,12 @@
 // Private to the io layer; each section of the scene loader reads through it.
 #pragma once
 
+#include <filesystem>
 #include <initializer_list>
+#include <nlohmann/json.hpp>
 #include <span>
 #include <string>
 #include <string_view>
-
-#include <nlohmann/json.hpp>
 
 #include "inertia/core/types.h"
 #include "inertia/io/scene.h"
@@ -46,6 +46,9 @@ class Node {
 
   // Scalars: each fails on the wrong type, a non-finite number or a value out of range.
   std::string string() const;
+  /// A file path: a non-empty string, relative to the directory of the file this was read
+  /// from unless absolute (DESIGN.md section 4). `what` names the file in the message.
+  std::filesystem::path path(const char* what) const;
   bool boolean() const;
   double number() const;
   /// A number in [lo, hi]; with `openLo`, lo itself is excluded (for "must be > 0").

@@ -1,6 +1,5 @@
 #include "shape_reader.h"
 
-#include <filesystem>
 #include <vector>
 
 #include "inertia/core/error.h"
@@ -107,14 +106,8 @@ Shape readShape(const Node& n, Transform& pose, std::initializer_list<std::strin
         if (n.has("vertices") || n.has("triangles"))
           n.fail("a mesh takes \"obj\" or \"vertices\" and \"triangles\", not both");
         const Node obj = n.at("obj");
-        const std::filesystem::path relative = obj.string();
-        if (relative.empty()) obj.fail("empty OBJ path");
-        // Relative to the scene file's directory (DESIGN.md section 4).
-        const std::filesystem::path path =
-            relative.is_absolute() ? relative
-                                   : std::filesystem::path(n.file()).parent_path() / relative;
         try {
-          return Shape(loadObj(path));
+          return Shape(loadObj(obj.path("OBJ")));
         } catch (const ObjError& e) {
           obj.fail(std::string("cannot load OBJ: ") + e.what());
         }
