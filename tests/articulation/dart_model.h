@@ -124,4 +124,14 @@ inline Eigen::VectorXd toDartOrder(const DartTree& d, const VectorX<double>& x) 
   return out;
 }
 
+/// A vector DART computes, read one entry at a time: a vector that DART returns by value is
+/// allocated by its Eigen, which under AddressSanitizer does not match ours (Eigen stops
+/// trusting malloc's alignment there), and freeing it here is a heap-buffer-overflow.
+template <class F>
+Eigen::VectorXd readDartVector(int n, F entry) {
+  Eigen::VectorXd out(n);
+  for (int i = 0; i < n; ++i) out(i) = entry(i);
+  return out;
+}
+
 }  // namespace inertia::articulation::dart_peer

@@ -14,20 +14,6 @@
 using namespace inertia::articulation;
 using namespace inertia::articulation::dart_peer;
 
-namespace {
-
-// DART's vectors read one entry at a time: a vector that DART returns by value is allocated by
-// its Eigen, which under AddressSanitizer does not match ours (Eigen stops trusting malloc's
-// alignment there), and freeing it here is a heap-buffer-overflow.
-template <class F>
-Eigen::VectorXd copy(int n, F entry) {
-  Eigen::VectorXd out(n);
-  for (int i = 0; i < n; ++i) out(i) = entry(i);
-  return out;
-}
-
-}  // namespace
-
 // Both sides are double-precision recursions over the same data, so they agree to rounding,
 // kappa(H) n eps ~ 1e-13 for these trees (measured: 1e-15 to 5e-14); the 1e-9 relative
 // is asserted.
@@ -57,7 +43,7 @@ TEST(Dart, MassMatrixForwardAndInverseDynamicsAgree) {
       d.skeleton->computeForwardDynamics();
       const VectorX<double> qdd = aba(model, q, qd, tau);
       const Eigen::VectorXd qddDart =
-          copy(model.nv(), [&](int i) { return d.skeleton->getAcceleration(i); });
+          readDartVector(model.nv(), [&](int i) { return d.skeleton->getAcceleration(i); });
       worst[1] = std::max(worst[1], (toDartOrder(d, qdd) - qddDart).norm() / qdd.norm());
       EXPECT_LT((toDartOrder(d, qdd) - qddDart).norm(), 1e-9 * qdd.norm()) << "seed " << seed;
 
@@ -65,7 +51,7 @@ TEST(Dart, MassMatrixForwardAndInverseDynamicsAgree) {
       d.skeleton->computeInverseDynamics();
       const VectorX<double> tauOurs = rnea(model, q, qd, qdd);
       const Eigen::VectorXd tauDart =
-          copy(model.nv(), [&](int i) { return d.skeleton->getForce(i); });
+          readDartVector(model.nv(), [&](int i) { return d.skeleton->getForce(i); });
       worst[2] = std::max(worst[2], (toDartOrder(d, tauOurs) - tauDart).norm() / tau.norm());
       EXPECT_LT((toDartOrder(d, tauOurs) - tauDart).norm(), 1e-9 * tau.norm()) << "seed " << seed;
     }

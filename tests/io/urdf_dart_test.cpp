@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <random>
 
+#include "../articulation/dart_model.h"
 #include "inertia/articulation/dynamics.h"
 #include "inertia/io/urdf.h"
 
@@ -76,15 +77,6 @@ void addSubtree(const dd::SkeletonPtr& skeleton, dd::BodyNode* parent, const urd
   for (const urdf::LinkSharedPtr& child : link.child_links) addSubtree(skeleton, node, *child);
 }
 
-// DART's vectors read one entry at a time (see tests/articulation/dart_test.cpp: under
-// AddressSanitizer a vector that DART allocates cannot be freed here).
-template <class F>
-Eigen::VectorXd copy(int n, F entry) {
-  Eigen::VectorXd out(n);
-  for (int i = 0; i < n; ++i) out(i) = entry(i);
-  return out;
-}
-
 }  // namespace
 
 // In double both sides are recursions over the same numbers and agree to rounding,
@@ -142,7 +134,8 @@ TEST(UrdfDart, ArmMassMatrixForwardAndInverseDynamicsAgree) {
     skeleton->setForces(toDart(tau));
     skeleton->computeForwardDynamics();
     const Eigen::VectorXd qdd = art::aba(model, qr, qdr, taur).cast<double>();
-    const Eigen::VectorXd qddDart = copy(n, [&](int i) { return skeleton->getAcceleration(i); });
+    const Eigen::VectorXd qddDart =
+        art::dart_peer::readDartVector(n, [&](int i) { return skeleton->getAcceleration(i); });
     worst[1] = std::max(worst[1], (toDart(qdd) - qddDart).norm() / qddDart.norm());
     EXPECT_LT((toDart(qdd) - qddDart).norm(), tolAba * qddDart.norm()) << "trial " << trial;
 
@@ -150,10 +143,12 @@ TEST(UrdfDart, ArmMassMatrixForwardAndInverseDynamicsAgree) {
     skeleton->computeInverseDynamics();
     const Eigen::VectorXd tauOurs =
         art::rnea(model, qr, qdr,
-                  art::VectorX<Real>(
-                      copy(n, [&](int k) { return qddDart(dof[std::size_t(k)]); }).cast<Real>()))
+                  art::VectorX<Real>(art::dart_peer::readDartVector(
+                                         n, [&](int k) { return qddDart(dof[std::size_t(k)]); })
+                                         .cast<Real>()))
             .cast<double>();
-    const Eigen::VectorXd tauDart = copy(n, [&](int i) { return skeleton->getForce(i); });
+    const Eigen::VectorXd tauDart =
+        art::dart_peer::readDartVector(n, [&](int i) { return skeleton->getForce(i); });
     worst[2] = std::max(worst[2], (toDart(tauOurs) - tauDart).norm() / tauDart.norm());
     EXPECT_LT((toDart(tauOurs) - tauDart).norm(), tolRnea * tauDart.norm()) << "trial " << trial;
   }
