@@ -54,18 +54,19 @@ std::string defaultName(const World& w) {
   return "articulation" + std::to_string(w.articulations().size());
 }
 
+// The link bodies, in link order.
+std::vector<BodyId> linkBodies(const World& w, ArticulationId id) {
+  std::vector<BodyId> ids;
+  for (int i = 0; i < w.articulation(id).model().linkCount(); ++i) ids.push_back(w.linkBody(id, i));
+  return ids;
+}
+
 // The link bodies' state, one row per link in link order.
 template <class Get>
 RealArray linkRows(const PyArticulation& a, py::ssize_t cols, Get get) {
   const World& w = a.reading();
-  const int n = w.articulation(a.id).model().linkCount();
-  RealArray out({py::ssize_t(n), cols});
-  Real* row = out.mutable_data();
-  for (int i = 0; i < n; ++i, row += cols) get(w, w.linkBody(a.id, i), row);
-  return out;
+  return bodyRows(linkBodies(w, a.id), cols, [&](BodyId b, Real* out) { return get(w, b, out); });
 }
-
-void put3(const Vec3& v, Real* out) { out[0] = v.x(), out[1] = v.y(), out[2] = v.z(); }
 
 PyArticulation createArticulation(py::object self, const PyModel& model, std::string name,
                                   py::handle position, py::handle orientation, py::handle q,
@@ -193,43 +194,36 @@ void bindHandle(py::module_& m) {
           "The last substep's joint-space impulses of limits, friction, damping and drives "
           "(N m s or N s), (nv,).")
       .def(
-          "link_bodies",
-          [](const PyArticulation& a) {
-            const World& w = a.reading();
-            std::vector<BodyId> ids;
-            for (int i = 0; i < w.articulation(a.id).model().linkCount(); ++i)
-              ids.push_back(w.linkBody(a.id, i));
-            return ids;
-          },
+          "link_bodies", [](const PyArticulation& a) { return linkBodies(a.reading(), a.id); },
           "The link bodies, in link order (contacts and ray hits name them).")
       .def(
           "link_positions",
           [](const PyArticulation& a) {
-            return linkRows(a, 3,
-                            [](const World& w, BodyId b, Real* o) { put3(w.transform(b).p, o); });
+            return linkRows(
+                a, 3, [](const World& w, BodyId b, Real* o) { return put(w.transform(b).p, o); });
           },
           "The links' frames' origins in the world (m), (n, 3).")
       .def(
           "link_orientations",
           [](const PyArticulation& a) {
-            return linkRows(a, 4, [](const World& w, BodyId b, Real* o) {
-              const Quat q = w.transform(b).q;
-              o[0] = q.w(), o[1] = q.x(), o[2] = q.y(), o[3] = q.z();
-            });
+            return linkRows(
+                a, 4, [](const World& w, BodyId b, Real* o) { return put(w.transform(b).q, o); });
           },
           "The links' orientations in the world [w, x, y, z], (n, 4).")
       .def(
           "link_linear_velocities",
           [](const PyArticulation& a) {
-            return linkRows(
-                a, 3, [](const World& w, BodyId b, Real* o) { put3(w.linearVelocity(b), o); });
+            return linkRows(a, 3, [](const World& w, BodyId b, Real* o) {
+              return put(w.linearVelocity(b), o);
+            });
           },
           "Velocities of the links' centres of mass (m/s, world), (n, 3).")
       .def(
           "link_angular_velocities",
           [](const PyArticulation& a) {
-            return linkRows(
-                a, 3, [](const World& w, BodyId b, Real* o) { put3(w.angularVelocity(b), o); });
+            return linkRows(a, 3, [](const World& w, BodyId b, Real* o) {
+              return put(w.angularVelocity(b), o);
+            });
           },
           "(rad/s, world), (n, 3).")
       .def("__eq__", [](const PyArticulation& a,

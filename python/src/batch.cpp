@@ -113,11 +113,6 @@ class Batch {
   int bodies_ = 0;
 };
 
-Real* put(const Vec3& v, Real* out) {
-  out[0] = v.x(), out[1] = v.y(), out[2] = v.z();
-  return out + 3;
-}
-
 // A scene's text and name (the file, for relative paths and messages), from a dict or a path.
 std::pair<std::string, std::string> readScene(py::handle scene) {
   if (py::isinstance<py::dict>(scene))
@@ -200,11 +195,8 @@ void bindBatch(py::module_& m) {
       .def(
           "orientations",
           [](const Batch& b) {
-            return b.gather(4, [](World& w, BodyId id, Real* o) {
-              const Quat q = w.transform(id).q;
-              o[0] = q.w(), o[1] = q.x(), o[2] = q.y(), o[3] = q.z();
-              return o + 4;
-            });
+            return b.gather(4,
+                            [](World& w, BodyId id, Real* o) { return put(w.transform(id).q, o); });
           },
           "(N, bodies, 4), [w, x, y, z].")
       .def(

@@ -73,13 +73,19 @@ RealArray fromVec3(const Vec3& v) {
   return a;
 }
 
+Real* put(const Vec3& v, Real* out) {
+  out[0] = v.x(), out[1] = v.y(), out[2] = v.z();
+  return out + 3;
+}
+
+Real* put(const Quat& q, Real* out) {
+  out[0] = q.w(), out[1] = q.x(), out[2] = q.y(), out[3] = q.z();
+  return out + 4;
+}
+
 RealArray fromQuat(const Quat& q) {
   RealArray a(4);
-  Real* p = a.mutable_data();
-  p[0] = q.w();
-  p[1] = q.x();
-  p[2] = q.y();
-  p[3] = q.z();
+  put(q, a.mutable_data());
   return a;
 }
 

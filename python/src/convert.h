@@ -8,7 +8,9 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
+#include "inertia/core/id.h"
 #include "inertia/core/types.h"
 
 namespace inertia::python {
@@ -37,6 +39,19 @@ RealArray toMatrix(py::handle value, const char* arg, py::ssize_t rows, py::ssiz
 RealArray toRows(py::handle value, const char* arg, py::ssize_t cols);
 
 /// New NumPy arrays holding copies.
+/// Writes v (3 values) or q ([w, x, y, z]) at `out` and returns the end: array rows.
+Real* put(const Vec3& v, Real* out);
+Real* put(const Quat& q, Real* out);
+/// One row of `cols` values per body of `ids`, in their order: get(id, out) writes a row and
+/// returns its end.
+template <class Get>
+RealArray bodyRows(const std::vector<BodyId>& ids, py::ssize_t cols, Get get) {
+  RealArray a({py::ssize_t(ids.size()), cols});
+  Real* out = a.mutable_data();
+  for (BodyId id : ids) out = get(id, out);
+  return a;
+}
+
 RealArray fromVec3(const Vec3& v);
 RealArray fromQuat(const Quat& q);  ///< [w, x, y, z]
 RealArray fromMat3(const Mat3& m);

@@ -57,11 +57,7 @@ std::vector<BodyId> bodyList(const World& w) { return w.rigidBodies().bodies(); 
 
 template <class Get>
 RealArray gather(const World& w, py::ssize_t cols, Get get) {
-  const std::vector<BodyId> ids = bodyList(w);
-  RealArray a({py::ssize_t(ids.size()), cols});
-  Real* out = a.mutable_data();
-  for (BodyId id : ids) out = get(id, out);
-  return a;
+  return bodyRows(bodyList(w), cols, get);
 }
 
 // Writes one row per body, in slot order, after checking the shape.
@@ -71,11 +67,6 @@ void scatter(World& w, py::handle value, const char* arg, py::ssize_t cols, Set 
   RealArray a = toMatrix(value, arg, py::ssize_t(ids.size()), cols);
   const Real* in = a.data();
   for (BodyId id : ids) set(id, in + 0), in += cols;
-}
-
-Real* put(const Vec3& v, Real* out) {
-  out[0] = v.x(), out[1] = v.y(), out[2] = v.z();
-  return out + 3;
 }
 
 // A World from scene text and its recipe (which the world keeps until changed from Python).
@@ -531,11 +522,7 @@ void bindWorld(py::module_& m) {
       .def(
           "orientations",
           [](const PyWorld& w) {
-            return gather(*w, 4, [&](BodyId id, Real* o) {
-              const Quat q = w->transform(id).q;
-              o[0] = q.w(), o[1] = q.x(), o[2] = q.y(), o[3] = q.z();
-              return o + 4;
-            });
+            return gather(*w, 4, [&](BodyId id, Real* o) { return put(w->transform(id).q, o); });
           },
           "Orientations [w, x, y, z], (n, 4).")
       .def(
