@@ -4,28 +4,23 @@ namespace inertia::articulation {
 
 LinkResponse::LinkResponse(Articulation<Real>& articulation, const Transform& base,
                            const Vec3& gravity)
-    : articulation_(articulation),
+    : articulation_(&articulation),
       base_(base),
       baseRotation_(base.q.toRotationMatrix()),
       ws_(articulation.model()) {
-  articulation_.setGravity(baseRotation_.transpose() * gravity);
+  articulation_->setGravity(baseRotation_.transpose() * gravity);
   delta_.resize(articulation.model().nv());
   updatePoses();
 }
 
 LinkResponse::LinkResponse(const LinkResponse& other, Articulation<Real>& articulation)
-    : articulation_(articulation),
-      base_(other.base_),
-      baseRotation_(other.baseRotation_),
-      ws_(other.ws_),
-      X0_(other.X0_),
-      points_(other.points_),
-      pointCount_(other.pointCount_),
-      delta_(other.delta_) {}
+    : LinkResponse(other) {
+  articulation_ = &articulation;
+}
 
 void LinkResponse::updatePoses() {
-  parentTransforms<Real>(articulation_.model(), articulation_.q(), ws_.Xup);
-  baseTransforms(articulation_.model(), ws_.Xup, X0_);
+  parentTransforms<Real>(articulation_->model(), articulation_->q(), ws_.Xup);
+  baseTransforms(articulation_->model(), ws_.Xup, X0_);
 }
 
 Transform LinkResponse::linkPose(int link) const {
@@ -35,8 +30,8 @@ Transform LinkResponse::linkPose(int link) const {
 }
 
 void LinkResponse::linkVelocity(int link, Vec3& v, Vec3& w) const {
-  const Model<Real>& m = articulation_.model();
-  const VectorX<Real>& qd = articulation_.qd();
+  const Model<Real>& m = articulation_->model();
+  const VectorX<Real>& qd = articulation_->qd();
   const Vec3 p = X0_[std::size_t(link)].r;
   Vec3 wb = Vec3::Zero(), vb = Vec3::Zero();
   for (int j = link; j >= 0; j = m.link(j).parent) {
@@ -54,11 +49,11 @@ void LinkResponse::linkVelocity(int link, Vec3& v, Vec3& w) const {
 // that both are solved against one mass matrix.
 void LinkResponse::beginStep() {
   pointCount_ = 0;
-  articulation_.factorMassMatrix(articulation_.q());
+  articulation_->factorMassMatrix(articulation_->q());
 }
 
 int LinkResponse::addPoint(int member, const Vec3& point) {
-  const Model<Real>& m = articulation_.model();
+  const Model<Real>& m = articulation_->model();
   if (std::size_t(pointCount_) == points_.size()) points_.emplace_back();
   Point& pt = points_[std::size_t(pointCount_)];
   pt.link = member;
@@ -73,13 +68,13 @@ int LinkResponse::addPoint(int member, const Vec3& point) {
       pt.J.col(k) = baseRotation_ * (s.tail<3>() + s.head<3>().cross(p));
     }
   }
-  pt.MinvJt = articulation_.massMatrixFactor().solve(pt.J.transpose());
+  pt.MinvJt = articulation_->massMatrixFactor().solve(pt.J.transpose());
   pt.W = pt.J * pt.MinvJt;
   return pointCount_++;
 }
 
 Vec3 LinkResponse::pointVelocity(int handle) const {
-  return points_[std::size_t(handle)].J * articulation_.qd();
+  return points_[std::size_t(handle)].J * articulation_->qd();
 }
 
 Vec3 LinkResponse::pointDisplacement(int handle) const {
@@ -89,11 +84,11 @@ Vec3 LinkResponse::pointDisplacement(int handle) const {
 
 void LinkResponse::applyImpulse(int handle, const Vec3& impulse) {
   delta_.noalias() = points_[std::size_t(handle)].MinvJt * impulse;
-  articulation_.addVelocity(delta_);
+  articulation_->addVelocity(delta_);
 }
 
 void LinkResponse::integratePositions(Real h) {
-  articulation_.integratePosition(h);
+  articulation_->integratePosition(h);
   updatePoses();
 }
 

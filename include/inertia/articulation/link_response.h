@@ -29,7 +29,6 @@ class LinkResponse final : public MultibodyResponse {
   /// A copy of `other` (its poses and this step's points) answering for `articulation`, a copy
   /// of other's articulation: for the world's snapshots.
   LinkResponse(const LinkResponse& other, Articulation<Real>& articulation);
-  LinkResponse(const LinkResponse&) = delete;
   LinkResponse& operator=(const LinkResponse&) = delete;
 
   const Transform& base() const { return base_; }
@@ -46,11 +45,13 @@ class LinkResponse final : public MultibodyResponse {
   Vec3 pointVelocity(int handle) const override;
   Vec3 pointDisplacement(int handle) const override;
   void applyImpulse(int handle, const Vec3& impulse) override;
-  void integrateVelocities(Real h) override { articulation_.integrateVelocity(h); }
-  void solveRows() override { articulation_.sweepJointRows(); }
+  void integrateVelocities(Real h) override { articulation_->integrateVelocity(h); }
+  void solveRows() override { articulation_->sweepJointRows(); }
   void integratePositions(Real h) override;
 
  private:
+  LinkResponse(const LinkResponse&) = default;  // answering for the same articulation
+
   using Matrix3X = Eigen::Matrix<Real, 3, Eigen::Dynamic>;
   using MatrixX3 = Eigen::Matrix<Real, Eigen::Dynamic, 3>;
   struct Point {
@@ -62,7 +63,7 @@ class LinkResponse final : public MultibodyResponse {
     Mat3 W = Mat3::Zero();
   };
 
-  Articulation<Real>& articulation_;
+  Articulation<Real>* articulation_;  // never null
   Transform base_;
   Mat3 baseRotation_;
   Workspace<Real> ws_;
