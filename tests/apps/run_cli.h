@@ -9,6 +9,8 @@
 #include <fstream>
 #include <string>
 
+#include "../scratch_dir.h"
+
 namespace inertia::test {
 
 struct CliResult {
@@ -30,23 +32,13 @@ inline CliResult runCli(const std::string& args, const std::string& env = "") {
   return r;
 }
 
-/// A fresh temporary directory per test, removed afterwards.
-class CliTest : public testing::Test {
+/// A fresh temporary directory per test, removed afterwards; paths as strings for commands.
+class CliTest : public ScratchDirTest {
  protected:
-  void SetUp() override {
-    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = std::filesystem::temp_directory_path() /
-           (std::string("inertia_") + info->test_suite_name() + "_" + info->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
   std::string write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name) << text;
-    return path(name);
+    return ScratchDirTest::write(name, text).string();
   }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  std::filesystem::path dir_;
 };
 
 }  // namespace inertia::test

@@ -12,27 +12,16 @@
 #include <string>
 #include <vector>
 
+#include "../scratch_dir.h"
+
 using namespace inertia;
 namespace fs = std::filesystem;
 using io::detail::loadMeshVertices;
 
 namespace {
 
-class MeshFile : public testing::Test {
+class MeshFile : public test::ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("inertia_mesh_file_" +
-            std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  fs::path write(const std::string& name, const std::string& text) {
-    const fs::path p = dir_ / name;
-    std::ofstream(p) << text;
-    return p;
-  }
   // The message loadMeshVertices gives for `path`, empty when it loads.
   static std::string errorOf(const fs::path& path) {
     try {
@@ -42,8 +31,6 @@ class MeshFile : public testing::Test {
     }
     return "";
   }
-
-  fs::path dir_;
 };
 
 // The corners of the unit tetrahedron, sorted, and a mesh's distinct vertices, sorted.

@@ -11,6 +11,7 @@
 #include <numbers>
 #include <string>
 
+#include "../scratch_dir.h"
 #include "inertia/articulation/articulation.h"
 #include "inertia/articulation/dynamics.h"
 #include "inertia/io/scene.h"
@@ -22,21 +23,8 @@ using io::UrdfError;
 
 namespace {
 
-class Urdf : public testing::Test {
+class Urdf : public test::ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("inertia_urdf_" +
-            std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  fs::path write(const std::string& name, const std::string& text) {
-    const fs::path p = dir_ / name;
-    std::ofstream(p) << text;
-    return p;
-  }
   // The reason loadUrdf gives for a file holding `text`.
   std::string errorOf(const std::string& text, const std::string& name = "bad.urdf") {
     const fs::path p = write(name, text);
@@ -50,7 +38,6 @@ class Urdf : public testing::Test {
     ADD_FAILURE() << "no error for " << text;
     return "";
   }
-  fs::path dir_;
 };
 
 fs::path sourceDir() {
