@@ -87,14 +87,6 @@ struct Polytope {
   }
 };
 
-SimplexVertex supportVertex(const ConvexProxy& a, const ConvexProxy& b, const Vec3& d) {
-  SimplexVertex sv;
-  sv.a = a.support(d);
-  sv.b = b.support(-d);
-  sv.w = sv.a - sv.b;
-  return sv;
-}
-
 // Depth 0: the Minkowski difference is flat (a point, a segment, a polygon) and holds the
 // origin, so the cores touch without depth; `normal` is any direction leaving the flat set.
 EpaResult flatResult(const ConvexProxy& a, const ConvexProxy& b, const Polytope& p,

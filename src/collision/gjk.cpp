@@ -285,6 +285,8 @@ void witnessPoints(const Simplex& s, Vec3& a, Vec3& b) {
   }
 }
 
+}  // namespace
+
 SimplexVertex supportVertex(const ConvexProxy& a, const ConvexProxy& b, const Vec3& d) {
   SimplexVertex sv;
   sv.a = a.support(d);
@@ -292,8 +294,6 @@ SimplexVertex supportVertex(const ConvexProxy& a, const ConvexProxy& b, const Ve
   sv.w = sv.a - sv.b;
   return sv;
 }
-
-}  // namespace
 
 GjkResult gjk(const ConvexProxy& a, const ConvexProxy& b, const Vec3& guess) {
   GjkResult r;

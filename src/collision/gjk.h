@@ -66,6 +66,9 @@ struct SimplexVertex {
   Vec3 w = Vec3::Zero();
 };
 
+/// The support point of A - B in direction d: A's support along d less B's along -d.
+SimplexVertex supportVertex(const ConvexProxy& a, const ConvexProxy& b, const Vec3& d);
+
 /// Up to four affinely independent vertices and the barycentric weights of the point of their
 /// hull closest to the origin (the weights sum to 1).
 struct Simplex {

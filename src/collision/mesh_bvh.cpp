@@ -5,11 +5,14 @@
 #include <cmath>
 #include <limits>
 
+#include "local_queries.h"
+
 namespace inertia {
+
+using detail::normalizedOr;
 
 namespace {
 
-constexpr Real kInf = std::numeric_limits<Real>::infinity();
 constexpr int kBins = 16;
 // Below this depth splits follow the SAH; deeper, object-median splits halve the count, so
 // the depth stays under kSahDepth + log2(2^32 / kMaxLeafSize) < MeshBvh::kMaxDepth.
@@ -65,7 +68,7 @@ struct Builder {
     if (depth < kSahDepth) {
       // Binned SAH (Wald 2007): cost Ct + (A_L N_L + A_R N_R) / A with Ct = Ci = 1, in units
       // of A: leaf cost N A versus A + A_L N_L + A_R N_R.
-      Real bestCost = kInf;
+      Real bestCost = kInfinity;
       int bestAxis = -1, bestBin = -1;
       for (int axis = 0; axis < 3; ++axis) {
         const Real lo = centroids.lower[axis], extent = centroids.upper[axis] - lo;
@@ -135,12 +138,6 @@ struct Builder {
   }
 };
 
-Vec3 normalizedOr(const Vec3& v, const Vec3& fallback) {
-  const Real n2 = v.squaredNorm();
-  if (n2 > std::numeric_limits<Real>::min() && n2 < kInf) return v / std::sqrt(n2);
-  return fallback;
-}
-
 // Distance squared from p to the node's box (0 inside).
 Real boxDistanceSquared(const MeshBvh::Node& n, const Vec3& p) {
   const Vec3 d = (n.lower - p).cwiseMax(p - n.upper).cwiseMax(Vec3::Zero());
@@ -153,7 +150,7 @@ Real boxEntry(const MeshBvh::Node& n, const Vec3& o, const Vec3& inv, Real tMax)
   const Vec3 t2 = (n.upper - o).cwiseProduct(inv);
   const Real enter = std::max(t1.cwiseMin(t2).maxCoeff(), Real(0));
   const Real exit = std::min(t1.cwiseMax(t2).minCoeff(), tMax);
-  return enter <= exit ? enter : kInf;
+  return enter <= exit ? enter : kInfinity;
 }
 
 }  // namespace
@@ -237,7 +234,7 @@ std::optional<MeshBvh::RayHit> MeshBvh::castRay(const Vec3& origin, const Vec3& 
   };
   Entry stack[kMaxDepth + 2];
   int top = 0;
-  if (boxEntry(nodes_[0], origin, inv, best) < kInf) stack[top++] = {0, 0};
+  if (boxEntry(nodes_[0], origin, inv, best) < kInfinity) stack[top++] = {0, 0};
   while (top > 0) {
     const Entry e = stack[--top];
     if (e.enter > best) continue;  // entered beyond the best hit: cannot improve
@@ -259,10 +256,10 @@ std::optional<MeshBvh::RayHit> MeshBvh::castRay(const Vec3& origin, const Vec3& 
     const Real tb = boxEntry(nodes_[b], origin, inv, best);
     // Push the farther child first so the nearer one is visited first.
     if (ta <= tb) {
-      if (tb < kInf) stack[top++] = {b, tb};
-      if (ta < kInf) stack[top++] = {a, ta};
+      if (tb < kInfinity) stack[top++] = {b, tb};
+      if (ta < kInfinity) stack[top++] = {a, ta};
     } else {
-      if (ta < kInf) stack[top++] = {a, ta};
+      if (ta < kInfinity) stack[top++] = {a, ta};
       stack[top++] = {b, tb};
     }
   }
@@ -275,7 +272,7 @@ std::optional<MeshBvh::RayHit> MeshBvh::castRay(const Vec3& origin, const Vec3& 
 
 MeshBvh::Closest MeshBvh::closestPoint(const Vec3& p) const {
   Closest best;
-  best.distanceSquared = kInf;
+  best.distanceSquared = kInfinity;
   struct Entry {
     std::uint32_t node;
     Real d2;

@@ -249,7 +249,7 @@ int supportFeature(const Collider& convex, const Vec3& d, Vec3* pts, std::uint32
   }
 }
 
-struct ClipVertex {
+struct FeatureClipVertex {
   Vec3 p = Vec3::Zero();
   /// The convex feature the vertex is (kOriginal | key), or the polygon edge leading into it:
   /// an edge of the convex's feature (its index) or a triangle side plane (kAlongPlane | k).
@@ -269,22 +269,22 @@ int faceContact(const TriangleInfo& t, const Vec3& ns, bool back, const Collider
   std::uint32_t keys[kMaxClipVertices];
   const int n = supportFeature(convex, pose.q.conjugate() * (-ns), local, keys,
                                kMaxClipVertices - 8);
-  ClipVertex buf[2][kClipCapacity];
+  FeatureClipVertex buf[2][kClipCapacity];
   int count = n, cur = 0;
   for (int k = 0; k < n; ++k)
     buf[0][k] = {pose.apply(local[k]), keys[k], std::uint32_t((k + n - 1) % n), true};
   for (int k = 0; k < 3 && count > 0; ++k) {
     const Vec3 side = (t.v[(k + 1) % 3] - t.v[k]).cross(t.normal);
     const Real offset = side.dot(t.v[k]);
-    const ClipVertex* in = buf[cur];
-    ClipVertex* o = buf[1 - cur];
+    const FeatureClipVertex* in = buf[cur];
+    FeatureClipVertex* o = buf[1 - cur];
     int m = 0;
     for (int i = 0; i < count; ++i) {
-      const ClipVertex& prev = in[(i + count - 1) % count];
-      const ClipVertex& v = in[i];
+      const FeatureClipVertex& prev = in[(i + count - 1) % count];
+      const FeatureClipVertex& v = in[i];
       const Real dp = side.dot(prev.p) - offset, dv = side.dot(v.p) - offset;
       if ((dp <= 0) != (dv <= 0)) {
-        ClipVertex x;
+        FeatureClipVertex x;
         x.p = prev.p + (dp / (dp - dv)) * (v.p - prev.p);
         x.original = false;
         // The crossing lies on the polygon edge leading into v, at side plane k; it is itself
@@ -309,7 +309,7 @@ int faceContact(const TriangleInfo& t, const Vec3& ns, bool back, const Collider
   const std::uint32_t faceKey = featureKey(Feature::Face, back ? 1 : 0);
   int kept = 0;
   for (int i = 0; i < count && kept < kMaxClipVertices; ++i) {
-    const ClipVertex& v = buf[cur][i];
+    const FeatureClipVertex& v = buf[cur][i];
     const Real sep = ns.dot(v.p - t.v[0]);
     if (sep > spec) continue;
     ContactCandidate& c = out[kept++];

@@ -14,7 +14,6 @@ namespace inertia {
 namespace {
 
 using detail::normalizedOr;
-constexpr Real kInf = std::numeric_limits<Real>::infinity();
 
 PointQuery query(const Plane& plane, const Vec3& p) {
   const Real d = plane.normal.dot(p) - plane.offset;
@@ -87,7 +86,7 @@ PointQuery query(const ConvexHull& hull, const Vec3& p) {
   const auto& faces = hull.faces();
   const auto& verts = hull.vertices();
   const auto& halfEdges = hull.halfEdges();
-  Real maxSep = -kInf;
+  Real maxSep = -kInfinity;
   std::size_t maxFace = 0;
   for (std::size_t f = 0; f < faces.size(); ++f) {
     const Real s = faces[f].normal.dot(p) - faces[f].offset;
@@ -99,7 +98,7 @@ PointQuery query(const ConvexHull& hull, const Vec3& p) {
   const Vec3& n0 = faces[maxFace].normal;
   if (maxSep <= 0) return {maxSep, p - maxSep * n0, n0};
 
-  Real bestD2 = kInf;
+  Real bestD2 = kInfinity;
   Vec3 best = p - maxSep * n0;
   for (std::size_t f = 0; f < faces.size(); ++f) {
     const HullFace& face = faces[f];
@@ -181,7 +180,7 @@ PointQuery query(const HeightField& field, const Vec3& p) {
   cellRange(p.x() - radius, p.x() + radius, field.cols() - 1, &j0, &j1);
   cellRange(p.z() - radius, p.z() + radius, field.rows() - 1, &i0, &i1);
 
-  Real bestD2 = kInf;
+  Real bestD2 = kInfinity;
   Vec3 best = Vec3(xc, hc, zc), bestNormal = Vec3::UnitY();
   for (std::size_t i = i0; i <= i1; ++i)
     for (std::size_t j = j0; j <= j1; ++j) {
@@ -209,7 +208,7 @@ PointQuery query(const HeightField& field, const Vec3& p) {
 // the surface of the child reporting the smallest value).
 PointQuery query(const Collider& collider, const Compound& compound, const Vec3& p) {
   PointQuery best;
-  best.distance = kInf;
+  best.distance = kInfinity;
   const auto& children = collider.children();
   for (std::size_t k = 0; k < children.size(); ++k) {
     const Transform& xf = compound.children()[k].transform;

@@ -19,7 +19,6 @@ namespace {
 using detail::LocalHit;
 using detail::normalizedOr;
 using Hit = std::optional<LocalHit>;
-constexpr Real kInf = std::numeric_limits<Real>::infinity();
 
 // Entry s of a ray into the ball |x| <= r from an origin outside it (c >= 0), or -1.
 // Hearn and Baker's discriminant b^2 - a c = a (r^2 - |o - (b / a) d|^2) and the root c / q
@@ -57,7 +56,7 @@ Hit cast(const Capsule& capsule, const Vec3& o, const Vec3& d, Real maxFraction)
   const Real r = capsule.radius, h = capsule.halfHeight;
   const Vec3 axisPoint(0, std::clamp(o.y(), -h, h), 0);
   if ((o - axisPoint).squaredNorm() < r * r) return std::nullopt;  // starts inside
-  Real best = kInf;
+  Real best = kInfinity;
   Vec3 normal = Vec3::UnitY();
   const Real a = d.x() * d.x() + d.z() * d.z();
   if (a > 0) {
@@ -92,7 +91,7 @@ Hit cast(const Capsule& capsule, const Vec3& o, const Vec3& d, Real maxFraction)
 // Kay-Kajiya slabs. Divisions (not multiplications by 1/d) so that a zero gap over a tiny
 // direction component gives 0, never 0 * inf.
 Hit cast(const Box& box, const Vec3& o, const Vec3& d, Real maxFraction) {
-  Real enter = -kInf, exit = kInf;
+  Real enter = -kInfinity, exit = kInfinity;
   int axis = -1;
   for (int i = 0; i < 3; ++i) {
     const Real h = box.halfExtents[i];
@@ -117,7 +116,7 @@ Hit cast(const Box& box, const Vec3& o, const Vec3& d, Real maxFraction) {
 // The slab |y| <= h intersected with the infinite cylinder x^2 + z^2 <= r^2.
 Hit cast(const Cylinder& cyl, const Vec3& o, const Vec3& d, Real maxFraction) {
   const Real r = cyl.radius, h = cyl.halfHeight;
-  Real enter = -kInf, exit = kInf;
+  Real enter = -kInfinity, exit = kInfinity;
   bool capEntry = false;
   if (d.y() == 0) {
     if (std::abs(o.y()) > h) return std::nullopt;
@@ -155,7 +154,7 @@ Hit cast(const Cylinder& cyl, const Vec3& o, const Vec3& d, Real maxFraction) {
 
 // Cyrus-Beck clipping of the line against every face plane; the entry face gives the normal.
 Hit cast(const ConvexHull& hull, const Vec3& o, const Vec3& d, Real maxFraction) {
-  Real enter = -kInf, exit = kInf;
+  Real enter = -kInfinity, exit = kInfinity;
   std::size_t enterFace = 0;
   bool entered = false;
   const auto& faces = hull.faces();
@@ -219,7 +218,7 @@ Hit cast(const HeightField& field, const Vec3& o, const Vec3& d, Real maxFractio
   std::size_t j = cellOf(start.x(), cols), i = cellOf(start.z(), rows);
   // s at which the ray crosses the next cell boundary along x (column) or z (row).
   const auto nextCrossing = [&](int axis, std::size_t cell) -> Real {
-    if (d[axis] == 0) return kInf;
+    if (d[axis] == 0) return kInfinity;
     const Real boundary = Real(cell + (d[axis] > 0 ? 1 : 0)) * s;
     return (boundary - o[axis]) / d[axis];
   };

@@ -10,7 +10,6 @@ namespace inertia::detail {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 double median3(double a, double b, double c) {
   return std::max(std::min(a, b), std::min(std::max(a, b), c));
@@ -210,7 +209,7 @@ LcpStatus dantzigPass(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const 
       k.dw.noalias() = A * k.dz;
       const double tinyZ = 1e-13 * k.dz.cwiseAbs().maxCoeff();
 
-      double t = kInf;
+      double t = kUnbounded;
       Eigen::Index who = -1;
       Set to = Set::Unprocessed;
       auto consider = [&](double tc, Eigen::Index j, Set target) {
@@ -221,14 +220,14 @@ LcpStatus dantzigPass(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const 
         }
       };
       if (s * k.dw[d] > tinyW) consider(-k.w[d] / k.dw[d], d, Set::Free);
-      if (s > 0 && hi[d] < kInf) consider(hi[d] - z[d], d, Set::AtHi);
-      if (s < 0 && lo[d] > -kInf) consider(z[d] - lo[d], d, Set::AtLo);
+      if (s > 0 && hi[d] < kUnbounded) consider(hi[d] - z[d], d, Set::AtHi);
+      if (s < 0 && lo[d] > -kUnbounded) consider(z[d] - lo[d], d, Set::AtLo);
       for (Eigen::Index j = 0; j < n; ++j) {
         if (j == d) continue;
         const Set sj = set(j);
         if (sj == Set::Free) {
-          if (k.dz[j] < -tinyZ && lo[j] > -kInf) consider((lo[j] - z[j]) / k.dz[j], j, Set::AtLo);
-          if (k.dz[j] > tinyZ && hi[j] < kInf) consider((hi[j] - z[j]) / k.dz[j], j, Set::AtHi);
+          if (k.dz[j] < -tinyZ && lo[j] > -kUnbounded) consider((lo[j] - z[j]) / k.dz[j], j, Set::AtLo);
+          if (k.dz[j] > tinyZ && hi[j] < kUnbounded) consider((hi[j] - z[j]) / k.dz[j], j, Set::AtHi);
         } else if (sj == Set::AtLo && lo[j] < hi[j]) {
           if (k.dw[j] < -tinyW) consider(-k.w[j] / k.dw[j], j, Set::Free);
         } else if (sj == Set::AtHi && lo[j] < hi[j]) {
@@ -353,7 +352,7 @@ LcpResult solveLemke(const Eigen::MatrixXd& M, const Eigen::VectorXd& q, Eigen::
       if (T.basic(i) >= n) zr[T.basic(i) - n] = std::max(x[i], 0.0);
   }
   const double rt = standardResidual(M, q, zt);
-  const double rr = x.allFinite() ? standardResidual(M, q, zr) : kInf;
+  const double rr = x.allFinite() ? standardResidual(M, q, zr) : kUnbounded;
   z = rr < rt ? zr : zt;
   return finish(LcpStatus::Solved, pivots, std::min(rt, rr));
 }
@@ -438,7 +437,7 @@ LcpResult solveDantzig(const BoxedLcp& p, Eigen::VectorXd& z, const DantzigOptio
                   residual);
   }
   Eigen::VectorXd best = Eigen::VectorXd::Zero(n), zp;
-  double bestResidual = kInf;
+  double bestResidual = kUnbounded;
   auto consider = [&](const Eigen::VectorXd& x) {
     const double r = boxedResidual(p, x);
     if (r < bestResidual) {
@@ -449,7 +448,7 @@ LcpResult solveDantzig(const BoxedLcp& p, Eigen::VectorXd& z, const DantzigOptio
   for (int pass = 0; pass < std::max(options.maxBoundIterations, 1); ++pass) {
     const LcpStatus s = dantzigPass(p.A, p.b, lo, hi, z, work, cap * (pass + 1), tolW, pivots);
     if (s != LcpStatus::Solved) {
-      if (bestResidual < kInf) z = best;
+      if (bestResidual < kUnbounded) z = best;
       return finish(s, pivots, boxedResidual(p, z));
     }
     consider(z);

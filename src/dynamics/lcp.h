@@ -25,9 +25,13 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <vector>
 
 namespace inertia::detail {
+
+/// The bound of a row without one.
+inline constexpr double kUnbounded = std::numeric_limits<double>::infinity();
 
 enum class LcpStatus {
   Solved,          ///< Complementary solution found.

@@ -16,7 +16,6 @@ using Vec3d = Eigen::Vector3d;
 using Mat3d = Eigen::Matrix3d;
 
 constexpr double kRegularisation = 1e-8;
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 using RowKind = LcpRowKind;
 using Row = LcpRow;
@@ -191,8 +190,8 @@ double storedImpulse(const Row& r, const std::vector<ContactConstraint>& cs) {
 void fixedBounds(const Row& r, double& lo, double& hi) {
   switch (r.kind) {
     case RowKind::Bilateral:
-      lo = -kInf;
-      hi = kInf;
+      lo = -kUnbounded;
+      hi = kUnbounded;
       return;
     case RowKind::Boxed:
       lo = -r.bound;
@@ -200,7 +199,7 @@ void fixedBounds(const Row& r, double& lo, double& hi) {
       return;
     default:  // Normal, Limit
       lo = 0;
-      hi = kInf;
+      hi = kUnbounded;
   }
 }
 

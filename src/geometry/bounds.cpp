@@ -10,9 +10,8 @@
 namespace inertia {
 namespace {
 
-constexpr Real kInf = std::numeric_limits<Real>::infinity();
 
-Aabb everything() { return {Vec3::Constant(-kInf), Vec3::Constant(kInf)}; }
+Aabb everything() { return {Vec3::Constant(-kInfinity), Vec3::Constant(kInfinity)}; }
 
 bool allFiniteBox(const Aabb& box) { return box.lower.allFinite() && box.upper.allFinite(); }
 

@@ -8,6 +8,7 @@
 #include "inertia/core/error.h"
 #include "inertia/deformable/generators.h"
 #include "particles_section.h"
+#include "shape_reader.h"
 
 namespace inertia::io::detail {
 
@@ -19,19 +20,10 @@ constexpr std::string_view kCommonKeys[] = {
     "damping", "integrator",  "self_collision", "friction",           "pinned",
     "attach",  "tear_strain", "fields",         "collide_with_bodies"};
 
-void requireKeys(const Node& n, std::initializer_list<std::string_view> own) {
+void requireDeformableKeys(const Node& n, std::initializer_list<std::string_view> own) {
   std::vector<std::string_view> all(std::begin(kCommonKeys), std::end(kCommonKeys));
   all.insert(all.end(), own.begin(), own.end());
   n.requireObject(all);
-}
-
-template <class F>
-auto checked(const Node& n, F&& f) {
-  try {
-    return f();
-  } catch (const InvalidArgument& e) {
-    n.fail(e.what());
-  }
 }
 
 SpringStiffness readStiffness(const Node& n) {
@@ -45,17 +37,10 @@ SpringStiffness readStiffness(const Node& n) {
   return k;
 }
 
-Transform readPose(const Node& n) {
-  Transform pose;
-  if (n.has("position")) pose.p = n.at("position").vec3();
-  if (n.has("orientation")) pose.q = n.at("orientation").quaternion();
-  return pose;
-}
-
 int readCount(const Node& n, long long hi) { return int(n.integer(1, hi)); }
 
 MassSpringModel readRope(const Node& n, Real mass, const SpringStiffness& k, Real c) {
-  requireKeys(n, {"from", "to", "segments"});
+  requireDeformableKeys(n, {"from", "to", "segments"});
   RopeSettings s{.from = n.at("from").vec3(),
                  .to = n.at("to").vec3(),
                  .segments = 10,
@@ -67,7 +52,7 @@ MassSpringModel readRope(const Node& n, Real mass, const SpringStiffness& k, Rea
 }
 
 MassSpringModel readCloth(const Node& n, Real mass, const SpringStiffness& k, Real c) {
-  requireKeys(n, {"position", "orientation", "size", "resolution"});
+  requireDeformableKeys(n, {"position", "orientation", "size", "resolution"});
   ClothSettings s{.pose = readPose(n), .mass = mass, .stiffness = k, .damping = c};
   if (n.has("size")) {
     Node size = n.at("size");
@@ -85,7 +70,7 @@ MassSpringModel readCloth(const Node& n, Real mass, const SpringStiffness& k, Re
 // "shape": {"type": "box", "half_extents": [...]} or {"type": "sphere", "radius": r}; the
 // resolution is [nx, ny, nz] cells for a box, the subdivision level for a sphere.
 MassSpringModel readSoftBody(const Node& n, Real mass, const SpringStiffness& k, Real c) {
-  requireKeys(n, {"position", "orientation", "shape", "resolution"});
+  requireDeformableKeys(n, {"position", "orientation", "shape", "resolution"});
   Node shape = n.at("shape");
   const std::string type = shape.at("type").string();
   const Transform pose = readPose(n);
@@ -122,7 +107,7 @@ std::uint32_t readVertex(const Node& n, std::size_t vertices) {
 
 // Explicit "vertices", "springs" ([a, b] pairs: stretch springs at rest) and "triangles".
 MassSpringModel readMesh(const Node& n, Real mass, const SpringStiffness& k, Real c) {
-  requireKeys(n, {"position", "orientation", "vertices", "springs", "triangles"});
+  requireDeformableKeys(n, {"position", "orientation", "vertices", "springs", "triangles"});
   const Transform pose = readPose(n);
   MassSpringModel m;
   Node vertices = n.at("vertices");

@@ -19,7 +19,7 @@ std::string show(Real x) {
 }
 
 // Keys every type takes; each adds its own.
-void requireKeys(const Node& n, std::initializer_list<std::string_view> own) {
+void requireJointKeys(const Node& n, std::initializer_list<std::string_view> own) {
   std::vector<std::string_view> all{"name",        "type",         "body_a",
                                     "body_b",      "anchor_a",     "anchor_b",
                                     "break_force", "break_torque", "collide_connected"};
@@ -261,7 +261,7 @@ JointDesc readJoint(const Node& n, std::size_t index, const std::vector<BodyDesc
   Node typeNode = n.at("type");
   const std::string type = typeNode.string();
   if (type == "ball") {
-    requireKeys(n, {"axis_a", "axis_b", "cone_limit", "twist_limits", "friction"});
+    requireJointKeys(n, {"axis_a", "axis_b", "cone_limit", "twist_limits", "friction"});
     BallJointSettings s;
     readCommon(n, index, bodies, s, d);
     if (n.has("axis_a")) s.axisA = readAxis(n.at("axis_a"));
@@ -275,7 +275,7 @@ JointDesc readJoint(const Node& n, std::size_t index, const std::vector<BodyDesc
     if (n.has("friction")) s.friction = readNonNegative(n.at("friction"), "N m");
     d.settings = std::move(s);
   } else if (type == "hinge") {
-    requireKeys(n, {"axis_a", "axis_b", "limits", "motor", "spring", "friction"});
+    requireJointKeys(n, {"axis_a", "axis_b", "limits", "motor", "spring", "friction"});
     HingeJointSettings s;
     readCommon(n, index, bodies, s, d);
     if (n.has("axis_a")) s.axisA = readAxis(n.at("axis_a"));
@@ -284,25 +284,25 @@ JointDesc readJoint(const Node& n, std::size_t index, const std::vector<BodyDesc
     readAxisDrives(n, s, /*angle=*/true);
     d.settings = std::move(s);
   } else if (type == "slider") {
-    requireKeys(n, {"axis_a", "limits", "motor", "spring", "friction"});
+    requireJointKeys(n, {"axis_a", "limits", "motor", "spring", "friction"});
     SliderJointSettings s;
     readCommon(n, index, bodies, s, d);
     if (n.has("axis_a")) s.axisA = readAxis(n.at("axis_a"));
     readAxisDrives(n, s, /*angle=*/false);
     d.settings = std::move(s);
   } else if (type == "weld") {
-    requireKeys(n, {"spring"});
+    requireJointKeys(n, {"spring"});
     WeldJointSettings s;
     readCommon(n, index, bodies, s, d);
     if (n.has("spring")) s.spring = readSpring(n.at("spring"), /*hasRest=*/false);
     d.settings = std::move(s);
   } else if (type == "distance") {
-    requireKeys(n, {"length", "min_length", "max_length", "spring"});
+    requireJointKeys(n, {"length", "min_length", "max_length", "spring"});
     DistanceJointSettings s;
     readCommon(n, index, bodies, s, d);
     d.settings = readDistance(n, bodies, d, std::move(s));
   } else if (type == "universal") {
-    requireKeys(n, {"axis_a", "axis_b", "limits_a", "limits_b"});
+    requireJointKeys(n, {"axis_a", "axis_b", "limits_a", "limits_b"});
     UniversalJointSettings s;
     readCommon(n, index, bodies, s, d);
     if (n.has("axis_a")) s.axisA = readAxis(n.at("axis_a"));

@@ -9,6 +9,7 @@
 #include <string>
 #include <string_view>
 
+#include "inertia/core/error.h"
 #include "inertia/core/types.h"
 #include "inertia/io/scene.h"
 
@@ -66,5 +67,16 @@ class Node {
 
 /// A short name of a JSON value's type for messages ("a string", "an array", ...).
 std::string typeName(const Json& j);
+
+/// f(), with the library's own refusal (InvalidArgument, from a settings check) turned into a
+/// failure at `n`, so that it names the file and the JSON pointer.
+template <class F>
+auto checked(const Node& n, F&& f) {
+  try {
+    return f();
+  } catch (const InvalidArgument& e) {
+    n.fail(e.what());
+  }
+}
 
 }  // namespace inertia::io::detail

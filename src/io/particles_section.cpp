@@ -32,15 +32,6 @@ Range readRange(const Node& n, double lo, double hi, bool openLo, bool allowInfi
   return Range::constant(one(n));
 }
 
-template <class F>
-void checked(const Node& n, F&& f) {
-  try {
-    f();
-  } catch (const InvalidArgument& e) {
-    n.fail(e.what());
-  }
-}
-
 EmitterSettings readEmitter(const Node& n, Real defaultSize, const std::vector<BodyDesc>& bodies) {
   EmitterSettings e;
   e.size = Range::constant(defaultSize);

@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <limits>
 
 namespace inertia {
 
@@ -11,6 +12,9 @@ using Real = double;
 #else
 using Real = float;
 #endif
+
+/// Real's infinity: unbounded distances and times, the bounds of an empty box.
+inline constexpr Real kInfinity = std::numeric_limits<Real>::infinity();
 
 using Vec3 = Eigen::Matrix<Real, 3, 1>;
 using Vec4 = Eigen::Matrix<Real, 4, 1>;
