@@ -12,6 +12,7 @@
 #include "collision_test_util.h"
 #include "inertia/collision/triangle.h"
 #include "inertia/core/error.h"
+#include "../sanitizer.h"
 
 using namespace inertia;
 using namespace inertia::test;
@@ -244,7 +245,8 @@ TEST(ContinuousTriangle, RandomMotionsAgreeWithDenseSamplingOracle) {
   const double timeTol = 1e-12 + 4 * kEps;
   const double slack = 16 * kEps * 4;  // the library's rounding allowance for |coordinates| <= 4
   int both = 0, earlier = 0, ccdOnly = 0, clearMisses = 0, total = 0;
-  for (int k = 0; k < 4000; ++k) {
+  const int cases = test::samplesFor(4000, 1000);
+  for (int k = 0; k < cases; ++k) {
     Config c;
     c.edges = k % 2 == 1;
     double maxSpeed = 0;
@@ -278,8 +280,8 @@ TEST(ContinuousTriangle, RandomMotionsAgreeWithDenseSamplingOracle) {
     }
   }
   // Both outcomes must be well represented.
-  EXPECT_GT(both, 300);
-  EXPECT_GT(clearMisses, 1000);
+  EXPECT_GT(both, cases * 3 / 40);
+  EXPECT_GT(clearMisses, cases / 4);
   EXPECT_LT(earlier + ccdOnly, both / 20);  // the oracle's blind spots are rare
   std::printf(
       "random motions: %d cases, %d contacts found by both (%d earlier by the cubic), "
