@@ -13,6 +13,7 @@
 #include "inertia/collision/time_of_impact.h"
 #include "inertia/core/error.h"
 #include "inertia/geometry/geometry.h"
+#include "random_shape.h"
 
 using namespace inertia;
 
@@ -21,22 +22,8 @@ namespace {
 Shape makeShape(fuzz::Input& in, Real scale) {
   // A size of exactly 0 (zero thickness) is allowed through to test the API's refusal.
   const auto len = [&] { return in.pick(16) == 0 ? Real(0) : scale * in.size(); };
-  switch (in.pick(5)) {
-    case 0:
-      return Sphere{len()};
-    case 1:
-      return Capsule{len(), len()};
-    case 2:
-      return Box{Vec3{len(), len(), len()}};  // braces: read in order
-    case 3:
-      return Cylinder{len(), len()};
-    default: {
-      std::vector<Vec3> pts;
-      const unsigned n = 4 + in.pick(12);
-      for (unsigned i = 0; i < n; ++i) pts.push_back(in.vec(scale));
-      return Shape(ConvexHull(pts));
-    }
-  }
+  return fuzz::randomShape(
+      in, len, [&] { return 4 + in.pick(12); }, scale);
 }
 
 void checkUnit(const Vec3& n) {

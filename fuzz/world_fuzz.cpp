@@ -8,6 +8,7 @@
 #include "fuzz_input.h"
 #include "inertia/core/error.h"
 #include "inertia/world/world.h"
+#include "random_shape.h"
 
 using namespace inertia;
 
@@ -17,26 +18,14 @@ namespace {
 // Real cannot hold (kMinMassProperty); those light small bodies that it accepts must land.
 constexpr Real kMinSize = 0;
 // Up to 100 m for primitives. Hull points and shape offsets come from Input::real, whose
-// special values reach 1e5 m whatever the scale (fuzz/README.md, known limits).
+// special values reach 1e5 m whatever the scale: bodies far longer than thick, on purpose
+// (fuzz/README.md, findings).
 constexpr Real kMaxSize = Real(1e2);
 
 Shape makeShape(fuzz::Input& in, Real scale) {
   const auto len = [&] { return std::clamp(scale * in.size(), kMinSize, kMaxSize); };
-  switch (in.pick(5)) {
-    case 0:
-      return Sphere{len()};
-    case 1:
-      return Capsule{len(), len()};
-    case 2:
-      return Box{Vec3{len(), len(), len()}};  // braces: read in order
-    case 3:
-      return Cylinder{len(), len()};
-    default: {
-      std::vector<Vec3> pts;
-      for (int i = 0; i < 8; ++i) pts.push_back(in.vec(std::min(scale, kMaxSize)));
-      return Shape(ConvexHull(pts));
-    }
-  }
+  return fuzz::randomShape(
+      in, len, [] { return 8u; }, std::min(scale, kMaxSize));
 }
 
 }  // namespace
