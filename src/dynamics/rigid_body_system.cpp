@@ -61,11 +61,32 @@ constexpr std::array<SolverEntry, 4> kSolvers{{{SolverType::SoftStep, "soft_step
 // scale: in float it underflows to zero below about 2e-13 kg m^2 (a sphere of water 0.3 mm
 // across) and the inverse is infinite or NaN. Scaled by a power of two near its largest
 // entry first, and the result back: exact, so the same bits wherever nothing underflowed.
+//
+// A tensor whose smallest principal moment lies below its largest's rounding (a body 1e4 times
+// longer than thick and more: a fuzzed hull of 100 km vertices on a 3 m sphere) has no
+// meaningful cofactor inverse in Real: the determinant cancels to zero or to a rounding error of
+// either sign, and the inverse is infinite, not positive, or wrong across the body's axis too.
+// And whatever inverts it, the world-frame inverse (one 3x3 matrix, what the solver applies)
+// holds the response across the axis only to eps times the condition number: its entries are
+// as large as the inverse of the smallest moment. So a tensor conditioned beyond
+// 1 / sqrt(eps) (3,000 in float, 7e7 in double; told by the cofactor inverse's residual, about
+// eps times the condition) is inverted in its principal axes with its moments raised to
+// sqrt(eps) times the largest: half of Real's digits for the response across the axis, and a
+// spin about the axis slower than the true one. Every other tensor keeps the cofactor inverse,
+// bit for bit as before.
 Mat3 inverseInertia(const Mat3& inertia) {
   int exponent = 0;
   std::frexp(inertia.cwiseAbs().maxCoeff(), &exponent);
   const Real scale = std::ldexp(Real(1), -exponent);
-  return (inertia * scale).inverse() * scale;
+  const Mat3 scaled = inertia * scale;
+  const Mat3 inverse = scaled.inverse();
+  const Real limit = std::sqrt(std::numeric_limits<Real>::epsilon());
+  if (inverse.allFinite() && (scaled * inverse - Mat3::Identity()).cwiseAbs().maxCoeff() <= limit)
+    return inverse * scale;
+  const Eigen::SelfAdjointEigenSolver<Mat3> eig(scaled);
+  const Vec3 moments = eig.eigenvalues().cwiseMax(limit * eig.eigenvalues().maxCoeff());
+  return eig.eigenvectors() * moments.cwiseInverse().asDiagonal() * eig.eigenvectors().transpose() *
+         scale;
 }
 
 // A dynamic shape whose mass or principal moments Real cannot hold with room to spare (a
