@@ -10,7 +10,6 @@ namespace inertia::detail {
 
 namespace {
 
-
 double median3(double a, double b, double c) {
   return std::max(std::min(a, b), std::min(std::max(a, b), c));
 }
@@ -226,8 +225,10 @@ LcpStatus dantzigPass(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const 
         if (j == d) continue;
         const Set sj = set(j);
         if (sj == Set::Free) {
-          if (k.dz[j] < -tinyZ && lo[j] > -kUnbounded) consider((lo[j] - z[j]) / k.dz[j], j, Set::AtLo);
-          if (k.dz[j] > tinyZ && hi[j] < kUnbounded) consider((hi[j] - z[j]) / k.dz[j], j, Set::AtHi);
+          if (k.dz[j] < -tinyZ && lo[j] > -kUnbounded)
+            consider((lo[j] - z[j]) / k.dz[j], j, Set::AtLo);
+          if (k.dz[j] > tinyZ && hi[j] < kUnbounded)
+            consider((hi[j] - z[j]) / k.dz[j], j, Set::AtHi);
         } else if (sj == Set::AtLo && lo[j] < hi[j]) {
           if (k.dw[j] < -tinyW) consider(-k.w[j] / k.dw[j], j, Set::Free);
         } else if (sj == Set::AtHi && lo[j] < hi[j]) {

@@ -10,7 +10,6 @@
 namespace inertia {
 namespace {
 
-
 Aabb everything() { return {Vec3::Constant(-kInfinity), Vec3::Constant(kInfinity)}; }
 
 bool allFiniteBox(const Aabb& box) { return box.lower.allFinite() && box.upper.allFinite(); }

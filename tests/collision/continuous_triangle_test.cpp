@@ -9,10 +9,10 @@
 #include <cstdio>
 #include <optional>
 
+#include "../sanitizer.h"
 #include "collision_test_util.h"
 #include "inertia/collision/triangle.h"
 #include "inertia/core/error.h"
-#include "../sanitizer.h"
 
 using namespace inertia;
 using namespace inertia::test;

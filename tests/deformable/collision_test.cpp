@@ -4,10 +4,10 @@
 
 #include <cmath>
 
+#include "../sanitizer.h"
 #include "inertia/collision/queries.h"
 #include "inertia/deformable/deformable.h"
 #include "inertia/deformable/generators.h"
-#include "../sanitizer.h"
 
 namespace inertia {
 namespace {

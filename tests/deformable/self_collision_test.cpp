@@ -6,10 +6,10 @@
 
 #include <cmath>
 
+#include "../sanitizer.h"
 #include "crossings.h"
 #include "inertia/deformable/deformable.h"
 #include "inertia/deformable/generators.h"
-#include "../sanitizer.h"
 
 namespace inertia {
 namespace {
