@@ -12,7 +12,6 @@ namespace inertia::detail {
 
 namespace {
 
-constexpr Real kInfinity = std::numeric_limits<Real>::infinity();
 // Box2D v3's joint softness in the soft step: twice the contacts' stiffness, damping ratio 2.
 constexpr Real kJointHertzScale = 2;
 constexpr Real kJointDampingRatio = 2;

@@ -12,7 +12,7 @@ namespace {
 
 constexpr std::string_view kTypes = "ball, hinge, slider, universal, weld, distance, six_dof";
 
-std::string show(Real x) {
+std::string showNumber(Real x) {
   char text[32];
   std::snprintf(text, sizeof text, "%.6g", double(x));
   return text;
@@ -68,7 +68,7 @@ JointLimits readLimits(const Node& n, bool angle, Real bound = Real(std::numbers
     Node e = n.at(k);
     bounds[k] = Real(e.number());
     if (angle && std::fabs(bounds[k]) > limit)
-      e.fail("angle limits must lie in [-" + show(limit) + ", " + show(limit) + "] (rad), got " +
+      e.fail("angle limits must lie in [-" + showNumber(limit) + ", " + showNumber(limit) + "] (rad), got " +
              e.json().dump());
   }
   if (bounds[0] > bounds[1])
@@ -244,10 +244,10 @@ DistanceJointSettings readDistance(const Node& n, const std::vector<BodyDesc>& b
       n.at("min_length").fail("min_length exceeds max_length");
     if (n.has("min_length"))
       n.at("min_length")
-          .fail("min_length exceeds " + what + " (" + show(length) +
+          .fail("min_length exceeds " + what + " (" + showNumber(length) +
                 " m), which max_length defaults to");
     n.at("max_length")
-        .fail("max_length is below " + what + " (" + show(length) +
+        .fail("max_length is below " + what + " (" + showNumber(length) +
               " m), which min_length defaults to");
   }
   return s;
