@@ -62,29 +62,26 @@ constexpr std::array<SolverEntry, 4> kSolvers{{{SolverType::SoftStep, "soft_step
 // across) and the inverse is infinite or NaN. Scaled by a power of two near its largest
 // entry first, and the result back: exact, so the same bits wherever nothing underflowed.
 //
-// A tensor whose smallest principal moment lies below its largest's rounding (a body 1e4 times
-// longer than thick and more: a fuzzed hull of 100 km vertices on a 3 m sphere) has no
-// meaningful cofactor inverse in Real: the determinant cancels to zero or to a rounding error of
-// either sign, and the inverse is infinite, not positive, or wrong across the body's axis too.
-// And whatever inverts it, the world-frame inverse (one 3x3 matrix, what the solver applies)
-// holds the response across the axis only to eps times the condition number: its entries are
-// as large as the inverse of the smallest moment. So a tensor conditioned beyond
-// 1 / sqrt(eps) (3,000 in float, 7e7 in double; told by the cofactor inverse's residual, about
-// eps times the condition) is inverted in its principal axes with its moments raised to
-// sqrt(eps) times the largest: half of Real's digits for the response across the axis, and a
-// spin about the axis slower than the true one. Every other tensor keeps the cofactor inverse,
-// bit for bit as before.
+// The cofactor inverse holds a tensor of condition number k to about eps k (its residual
+// |S S^-1 - 1| says how well). Past k = 1e-2 / eps (1e5 in float: a rod 800 times longer than
+// thick, or a fuzzed hull of 1e5 m vertices on a 3 m sphere) the determinant cancels and the
+// inverse is infinite, indefinite, or wrong by more than 1% in every direction. Such a tensor is
+// inverted in its principal axes instead, its moments raised to 1e-2 / eps below the largest:
+// what the world-frame 3x3 inverse the solver applies can hold to 1% (the spin about the long
+// axis is then slower than the true one). Every tensor the cofactors invert within 1% keeps
+// that inverse, bit for bit as before; an axis-aligned needle's diagonal tensor always does.
 Mat3 inverseInertia(const Mat3& inertia) {
   int exponent = 0;
   std::frexp(inertia.cwiseAbs().maxCoeff(), &exponent);
   const Real scale = std::ldexp(Real(1), -exponent);
   const Mat3 scaled = inertia * scale;
   const Mat3 inverse = scaled.inverse();
-  const Real limit = std::sqrt(std::numeric_limits<Real>::epsilon());
-  if (inverse.allFinite() && (scaled * inverse - Mat3::Identity()).cwiseAbs().maxCoeff() <= limit)
+  if (inverse.allFinite() &&
+      (scaled * inverse - Mat3::Identity()).cwiseAbs().maxCoeff() <= kInverseResidual)
     return inverse * scale;
+  const Real floor = std::numeric_limits<Real>::epsilon() / kInverseResidual;
   const Eigen::SelfAdjointEigenSolver<Mat3> eig(scaled);
-  const Vec3 moments = eig.eigenvalues().cwiseMax(limit * eig.eigenvalues().maxCoeff());
+  const Vec3 moments = eig.eigenvalues().cwiseMax(floor * eig.eigenvalues().maxCoeff());
   return eig.eigenvectors() * moments.cwiseInverse().asDiagonal() * eig.eigenvectors().transpose() *
          scale;
 }
