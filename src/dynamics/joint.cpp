@@ -95,11 +95,12 @@ JointRecord commonRecord(Data& D, const S& s, JointType type, const char* name) 
   check(D.isValidBody(s.bodyB), name, "bodyB", "is not a valid body");
   check(s.bodyA.isNull() || D.isValidBody(s.bodyA), name, "bodyA", "is not a valid body");
   check(s.bodyA != s.bodyB, name, "bodyB", "must differ from bodyA (a body joined to itself)");
-  // Loops through articulations' links are not solved yet (multibody.h).
-  check(D.bodies[s.bodyB.index].group < 0, name, "bodyB",
-        "is an articulation's link (not supported)");
-  check(s.bodyA.isNull() || D.bodies[s.bodyA.index].group < 0, name, "bodyA",
-        "is an articulation's link (not supported)");
+  // A joint may close a loop through an articulation's links (multibody_contacts.h), but not
+  // within one tree: its rows would need the tree's cross response between the two links.
+  check(s.bodyA.isNull() || D.bodies[s.bodyB.index].group < 0 ||
+            D.bodies[s.bodyA.index].group != D.bodies[s.bodyB.index].group,
+        name, "bodyB",
+        "is a link of bodyA's articulation (a loop within one tree is not supported)");
   check(allFinite(s.anchorA), name, "anchorA", "must be finite (m)");
   check(allFinite(s.anchorB), name, "anchorB", "must be finite (m)");
   check(!std::isnan(s.breakForce) && s.breakForce >= 0, name, "breakForce", "must be >= 0 (N)");
@@ -141,7 +142,14 @@ std::string_view jointTypeName(JointType type) {
 
 namespace {
 
-JointId addJoint(Data& D, JointRecord&& record) {
+JointId addJoint(Data& D, JointRecord&& record, const char* name) {
+  // A link's joints are solved as point rows through its articulation's response: three
+  // linear rows, what a ball joint without limits or friction is.
+  if (drivenJoint(D, record))
+    check(record.type == JointType::Ball && lockedOnly(record), name,
+          D.bodies[record.bodyB].group >= 0 ? "bodyB" : "bodyA",
+          "is an articulation's link: only a ball joint without cone or twist limits or friction "
+          "may join one");
   // The lowest free slot, searched from the lowest that may be free (as for bodies).
   std::uint32_t slot = D.firstFreeJoint;
   while (slot < D.joints.size() && D.joints[slot].alive) ++slot;
@@ -201,7 +209,7 @@ JointId RigidBodySystem::createJoint(const BallJointSettings& s) {
   j.coneLimit = s.coneLimit;
   j.axes[3] = {.locked = false, .limits = s.twistLimits};
   j.friction = s.friction;
-  return addJoint(D, std::move(j));
+  return addJoint(D, std::move(j), name);
 }
 
 JointId RigidBodySystem::createJoint(const HingeJointSettings& s) {
@@ -214,7 +222,7 @@ JointId RigidBodySystem::createJoint(const HingeJointSettings& s) {
   JointRecord j = commonRecord(D, s, JointType::Hinge, name);
   axisFrames(D, j, axisA, axisB);
   j.axes[3] = angle;
-  return addJoint(D, std::move(j));
+  return addJoint(D, std::move(j), name);
 }
 
 JointId RigidBodySystem::createJoint(const SliderJointSettings& s) {
@@ -230,7 +238,7 @@ JointId RigidBodySystem::createJoint(const SliderJointSettings& s) {
   const Transform fb = worldFrame(D, j.bodyB, j.frameB);
   j.reference = (fa.q * Vec3::UnitX()).dot(fb.p - fa.p);
   j.axes[0] = position;
-  return addJoint(D, std::move(j));
+  return addJoint(D, std::move(j), name);
 }
 
 JointId RigidBodySystem::createJoint(const UniversalJointSettings& s) {
@@ -250,7 +258,7 @@ JointId RigidBodySystem::createJoint(const UniversalJointSettings& s) {
   alignFrameB(D, j);
   j.axes[3] = {.locked = false, .limits = s.limitsA};
   j.axes[4] = {.locked = false, .limits = s.limitsB};
-  return addJoint(D, std::move(j));
+  return addJoint(D, std::move(j), name);
 }
 
 JointId RigidBodySystem::createJoint(const SixDofJointSettings& s) {
@@ -283,7 +291,7 @@ JointId RigidBodySystem::createJoint(const SixDofJointSettings& s) {
   j.frameA.q = s.frameA.q.normalized();
   j.frameB.q = s.frameB.q.normalized();
   j.axes = s.axes;
-  return addJoint(D, std::move(j));
+  return addJoint(D, std::move(j), name);
 }
 
 JointId RigidBodySystem::createJoint(const WeldJointSettings& s) {
@@ -293,7 +301,7 @@ JointId RigidBodySystem::createJoint(const WeldJointSettings& s) {
   JointRecord j = commonRecord(D, s, JointType::Weld, name);
   alignFrameB(D, j);
   j.spring = s.spring;
-  return addJoint(D, std::move(j));
+  return addJoint(D, std::move(j), name);
 }
 
 JointId RigidBodySystem::createJoint(const DistanceJointSettings& s) {
@@ -309,7 +317,7 @@ JointId RigidBodySystem::createJoint(const DistanceJointSettings& s) {
   j.maxLength = s.maxLength < 0 ? j.length : s.maxLength;
   check(j.minLength <= j.maxLength, name, "minLength", "must be <= maxLength");
   j.spring = s.spring;
-  return addJoint(D, std::move(j));
+  return addJoint(D, std::move(j), name);
 }
 
 void RigidBodySystem::destroyJoint(JointId id) {

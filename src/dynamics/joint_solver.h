@@ -44,7 +44,7 @@ void addJointConstraints(RigidBodyData& D, Slot slot) {
   D.jointEdges.clear();
   for (std::uint32_t ji = 0; ji < D.joints.size(); ++ji) {
     const JointRecord& j = D.joints[ji];
-    if (!j.alive || !j.enabled) continue;
+    if (!j.alive || !j.enabled || drivenJoint(D, j)) continue;
     const bool aActive = j.bodyA != kWorldBody && D.bodies[j.bodyA].type == BodyType::Dynamic &&
                          D.bodies[j.bodyA].awake;
     const BodyRecord& b = D.bodies[j.bodyB];

@@ -1,5 +1,6 @@
 #include "multibody_contacts.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
@@ -117,6 +118,54 @@ void preparePoints(Data& D, const DynamicsSettings& s, MultibodyContact& c) {
                         : combine(s.combine.friction, ma.sliding(), mb.sliding());
 }
 
+// A side's anchor from its centre of mass now: a rigid side's turns with its body within the
+// step (the coloured joints' do too); a group's point is its own.
+Vec3 arm(const Data& D, const MultibodySide& s, const Vec3& r) {
+  if (s.group >= 0 || s.body < 0) return r;
+  return D.solverBodies[std::size_t(s.body)].dR * r;
+}
+
+// The rows' effective mass (W_A + W_B)^-1 at the anchors now: made again after every position
+// update (JointPass::stamp), as the coloured joints' are, since a hung body's turn within the
+// step moves its anchor's response (a small sphere on a long arm: its W spans 1 : 91).
+//
+// W is singular wherever the anchors cannot move apart: out of the plane of a planar loop,
+// along the bars of a straight linkage. Its pseudo-inverse leaves those directions alone
+// (eigenvalues below 1e-6 of the largest: far below any real response, above float rounding).
+void updateJointMass(Data& D, MultibodyJoint& m) {
+  const Mat3 W = responseMatrix(D, m.a, m.handle[0], arm(D, m.a, m.rA)) +
+                 responseMatrix(D, m.b, m.handle[1], arm(D, m.b, m.rB));
+  const Eigen::SelfAdjointEigenSolver<Mat3> eig(W);
+  const Vec3 lambda = eig.eigenvalues();
+  Vec3 inverse = Vec3::Zero();
+  for (int i = 0; i < 3; ++i)
+    if (lambda[i] > Real(1e-6) * lambda.maxCoeff()) inverse[i] = 1 / lambda[i];
+  m.mass = eig.eigenvectors() * inverse.asDiagonal() * eig.eigenvectors().transpose();
+  if (!m.mass.allFinite()) m.mass.setZero();
+}
+
+// A driven joint's anchors, effective mass and last step's impulse.
+void prepareJointPoints(Data& D, MultibodyJoint& m) {
+  const JointRecord& j = D.joints[m.joint];
+  const auto anchor = [&](std::uint32_t body, const Transform& frame) {
+    return body == kWorldBody ? frame.p : D.bodies[body].pose.apply(frame.p);
+  };
+  const Vec3 pA = anchor(j.bodyA, j.frameA), pB = anchor(j.bodyB, j.frameB);
+  if (m.a.body >= 0) m.rA = pA - D.bodies[j.bodyA].com;
+  if (m.b.body >= 0) m.rB = pB - D.bodies[j.bodyB].com;
+  m.handle[0] = m.a.group >= 0 ? response(D, m.a).addPoint(D.bodies[j.bodyA].member, pA) : -1;
+  m.handle[1] = m.b.group >= 0 ? response(D, m.b).addPoint(D.bodies[j.bodyB].member, pB) : -1;
+  m.separation = pB - pA;
+  m.stamp = -1;
+  m.impulse = j.parts.lockImpulse.head<3>();
+}
+
+// An impulse P on B at the joint's anchors, -P on A.
+void applyJointPair(Data& D, const MultibodyJoint& m, const Vec3& P) {
+  applyImpulse(D, m.a, m.handle[0], arm(D, m.a, m.rA), -P);
+  applyImpulse(D, m.b, m.handle[1], arm(D, m.b, m.rB), P);
+}
+
 // Whether a side cannot move: a static body, or a kinematic one.
 bool fixedSide(const Data& D, const MultibodySide& s) {
   return s.group < 0 && (s.body < 0 || D.solverBodies[std::size_t(s.body)].invMass == 0);
@@ -131,6 +180,40 @@ void prepareMultibodyContacts(Data& D, const DynamicsSettings& s, const Softness
   for (MultibodyContact& c : D.multibodyContacts) {
     preparePoints(D, s, c);
     c.softness = fixedSide(D, c.a) || fixedSide(D, c.b) ? staticSoft : soft;
+  }
+  for (MultibodyJoint& m : D.multibodyJoints) prepareJointPoints(D, m);
+}
+
+void warmStartMultibodyJoints(Data& D) {
+  for (const MultibodyJoint& m : D.multibodyJoints) applyJointPair(D, m, m.impulse);
+}
+
+void solveMultibodyJoints(Data& D, const JointPass& pass) {
+  const Softness& soft = pass.rigid;
+  for (MultibodyJoint& m : D.multibodyJoints) {
+    if (m.stamp != pass.stamp) {
+      updateJointMass(D, m);
+      m.stamp = pass.stamp;
+    }
+    const Vec3 error = m.separation + displacement(D, m.b, m.handle[1], m.rB) -
+                       displacement(D, m.a, m.handle[0], m.rA);
+    const Vec3 dv = velocity(D, m.b, m.handle[1], arm(D, m.b, m.rB)) -
+                    velocity(D, m.a, m.handle[0], arm(D, m.a, m.rA));
+    const Vec3 impulse =
+        -soft.massScale * (m.mass * (dv + soft.biasRate * error)) - soft.impulseScale * m.impulse;
+    m.impulse += impulse;
+    applyJointPair(D, m, impulse);
+  }
+}
+
+void storeMultibodyJoints(Data& D, Real h) {
+  for (const MultibodyJoint& m : D.multibodyJoints) {
+    JointRecord& j = D.joints[m.joint];
+    j.parts.lockImpulse.setZero();
+    j.parts.lockImpulse.head<3>() = m.impulse;
+    j.force = m.impulse / h;
+    j.torque = Vec3::Zero();
+    j.overloaded = j.force.norm() > j.breakForce;
   }
 }
 

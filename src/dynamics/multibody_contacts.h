@@ -6,8 +6,16 @@
 // W = J M^-1 J^T, and its impulses change every member's velocity. Every link of a tree shares
 // the reduced coordinates, so these rows run in sequence, in contact order, after each pass's
 // colours: the same at any thread count. Rolling and spinning friction are not applied to them.
+//
+// The joints with a driven body on a side (RigidBodyData::multibodyJoints: ball joints without
+// limits, which close loops through articulations) are three point rows each, solved the same
+// way before the contacts: the anchors' relative velocity W-solved to zero with the joints'
+// softness (JointPass: soft in the soft step, Baumgarte's feedback for pgs, none in the
+// relaxation), warm started from last step's impulse, their force reported and checked
+// against the break thresholds as any joint's.
 #pragma once
 
+#include "joint_solver.h"
 #include "rigid_body_data.h"
 #include "step_workers.h"
 
@@ -22,6 +30,12 @@ void integrateMultibodyVelocities(RigidBodyData& D, Real h, StepWorkers& workers
 void integrateMultibodyPositions(RigidBodyData& D, Real h, StepWorkers& workers);
 /// Applies the accumulated impulses again (a substep's warm start).
 void warmStartMultibodyContacts(RigidBodyData& D);
+void warmStartMultibodyJoints(RigidBodyData& D);
+/// One pass over the driven joints' rows.
+void solveMultibodyJoints(RigidBodyData& D, const JointPass& pass);
+/// Their impulses into the joints (for the next step's warm start), their forces, and whether
+/// they broke (storeJoints breaks them with the others).
+void storeMultibodyJoints(RigidBodyData& D, Real h);
 /// One pass over the rows.
 void solveMultibodyContacts(RigidBodyData& D, const BiasMode& mode);
 /// One pass over each group's own rows (an articulation's joint rows), in group order, after

@@ -217,6 +217,21 @@ struct MultibodyContact {
   Softness softness{};
 };
 
+// A ball joint with a driven body on a side: a loop closed through an articulation's links (a
+// four-bar linkage, a body hung from a robot's hand). Its three point rows keep the anchors
+// together, solved beside the driven contacts (multibody_contacts.h).
+struct MultibodyJoint {
+  std::uint32_t joint = 0;
+  MultibodySide a, b;
+  std::array<int, 2> handle{-1, -1};  // per side, the group's point (a driven side)
+  Vec3 rA = Vec3::Zero();             // anchors from the rigid sides' centres of mass (m)
+  Vec3 rB = Vec3::Zero();
+  Vec3 separation = Vec3::Zero();  // anchor B - anchor A at the step's start (m)
+  Mat3 mass = Mat3::Zero();        // (W_A + W_B)^-1, the rows' effective mass (kg)
+  int stamp = -1;                  // the position update `mass` was made for (JointPass)
+  Vec3 impulse = Vec3::Zero();     // accumulated, on B (N s, world)
+};
+
 struct RigidBodyData {
   std::vector<BodyRecord> bodies;
   std::vector<ShapeRecord> shapes;
@@ -237,6 +252,7 @@ struct RigidBodyData {
   std::vector<JointEvent> jointEvents;  // the joints that broke in the last step
   std::vector<MultibodyGroup> multibodies;
   std::vector<MultibodyContact> multibodyContacts;  // this step's contacts on driven bodies
+  std::vector<MultibodyJoint> multibodyJoints;      // this step's joints on driven bodies
 
   // Scratch, reused from step to step.
   std::vector<int> awakeProxies;  // the proxies of the awake bodies
@@ -267,7 +283,7 @@ struct RigidBodyData {
     ShapeType type = ShapeType::Sphere;
     BodyType bodyType = BodyType::Static;
     bool awake = false;
-    bool fast = false;  // its body is continuous this step (BodyRecord::fast)
+    bool fast = false;     // its body is continuous this step (BodyRecord::fast)
     bool jointed = false;  // its body has an enabled joint whose bodies do not collide
     int group = -1;        // its body's multibody group (BodyRecord::group)
     Real radius = std::numeric_limits<Real>::infinity();  // ShapeRecord::radius
@@ -309,7 +325,7 @@ struct RigidBodyData {
   std::vector<JointConstraint> sortedJoints;      // scratch of the sort by colour
   std::vector<GraphEdge> jointEdges;              // per joint constraint: its solver bodies
   std::vector<GraphEdge> lcpEdges;                // the contacts' edges, then the joints'
-  ConstraintIslands lcpIslands;         // the LCP solvers' islands of this step
+  ConstraintIslands lcpIslands;                   // the LCP solvers' islands of this step
   LcpWorkspace lcp;
   std::vector<std::uint8_t> islandAwake;
   std::vector<Real> islandSleep;
@@ -369,5 +385,11 @@ struct RigidBodyData {
     b.sleepTime = 0;
   }
 };
+
+/// Whether a joint has a driven body (an articulation's link) on a side: it is solved as a
+/// MultibodyJoint, not in the constraint graph.
+inline bool drivenJoint(const RigidBodyData& D, const JointRecord& j) {
+  return D.bodies[j.bodyB].group >= 0 || (j.bodyA != kWorldBody && D.bodies[j.bodyA].group >= 0);
+}
 
 }  // namespace inertia::detail

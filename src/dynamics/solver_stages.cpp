@@ -27,6 +27,28 @@ int solverSlot(Data& D, std::uint32_t bi) {
   return D.solverIndex[bi];
 }
 
+// A side of a driven joint: the world, a group's point, or a solver body (-1: static).
+MultibodySide jointSide(Data& D, std::uint32_t bi) {
+  if (bi == kWorldBody) return {};
+  if (D.bodies[bi].group >= 0) return {-1, D.bodies[bi].group};
+  D.wake(D.bodies[bi]);  // hung from a link, which never sleeps
+  return {solverSlot(D, bi), -1};
+}
+
+// The joints with a driven body on a side (a link's: always awake), out of the graph
+// (multibody_contacts.h); the rigid body on the other side gets a solver body.
+void addMultibodyJoints(Data& D) {
+  D.multibodyJoints.clear();
+  for (std::uint32_t ji = 0; ji < D.joints.size(); ++ji) {
+    const JointRecord& j = D.joints[ji];
+    if (!j.alive || !j.enabled || !drivenJoint(D, j)) continue;
+    MultibodyJoint& m = D.multibodyJoints.emplace_back();
+    m.joint = ji;
+    m.a = jointSide(D, j.bodyA);
+    m.b = jointSide(D, j.bodyB);
+  }
+}
+
 // The velocities, masses and start poses of the solver bodies.
 void prepareSolverBodies(Data& D, StepWorkers& workers) {
   const std::size_t n = D.solverToBody.size();
@@ -209,6 +231,7 @@ void warmStart(Data& D, int stamp, Real h, Real flight, StepWorkers& workers) {
       [&](std::uint32_t first, std::size_t count) {
         D.bundles.warmStart(D.solverBodies.data(), first, count);
       });
+  warmStartMultibodyJoints(D);
   warmStartMultibodyContacts(D);
 }
 
@@ -221,8 +244,9 @@ void solve(Data& D, const BiasMode& mode, const JointPass& jointPass, int iterat
         [&](std::uint32_t first, std::size_t count) {
           D.bundles.solve(D.solverBodies.data(), mode, first, count);
         });
-    // The contacts on driven bodies, then the groups' own rows, in sequence after the colours
-    // (multibody_contacts.h).
+    // The joints and contacts on driven bodies, then the groups' own rows, in sequence after
+    // the colours (multibody_contacts.h).
+    solveMultibodyJoints(D, jointPass);
     solveMultibodyContacts(D, mode);
     solveMultibodyRows(D);
   }
@@ -287,10 +311,12 @@ void solveIslandsLcp(Data& D, const BiasMode& mode, const JointPass& jointPass, 
     else
       solveIslandPgs(D, island, rigid, jointPass, iterations);
   }
-  // The contacts on driven bodies and the groups' own rows are not in the LCPs: pgs passes
-  // after them.
+  // The joints and contacts on driven bodies and the groups' own rows are not in the LCPs: pgs
+  // passes after them.
+  warmStartMultibodyJoints(D);
   warmStartMultibodyContacts(D);
   for (int it = 0; it < iterations; ++it) {
+    solveMultibodyJoints(D, jointPass);
     solveMultibodyContacts(D, rigid);
     solveMultibodyRows(D);
   }
@@ -388,6 +414,7 @@ void prepareContacts(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
     c.bodyB = solverSlot(D, info.bodyB.index);
     D.contactEdges.push_back({c.bodyA, c.bodyB});
   }
+  addMultibodyJoints(D);
   addJointConstraints(D, [&](std::uint32_t bi) { return solverSlot(D, bi); });
   prepareSolverBodies(D, workers);
   const Real h = dt / Real(s.substeps);
@@ -482,6 +509,7 @@ double solveSubsteps(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
   restituteMultibodyContacts(D, tuning.restitutionThreshold);
   storeImpulses(D, workers);
   storeMultibodyContacts(D);
+  storeMultibodyJoints(D, h);
   storeJoints(D, h, workers);
   return integrationTime;
 }

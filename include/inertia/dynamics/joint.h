@@ -71,7 +71,8 @@ inline constexpr Real kUnbreakable = std::numeric_limits<Real>::infinity();
 
 /// Ball-and-socket (spherical): the anchors coincide; rotation is free, within an optional cone
 /// about the joint's axis (the swing of B's axis from A's) and optional twist limits about it
-/// (shoulders and hips).
+/// (shoulders and hips). Without those and friction, a side may be an articulation's link (a
+/// loop closure; the only joint a link takes).
 struct BallJointSettings {
   BodyId bodyA{};  ///< Null: the world.
   BodyId bodyB{};

@@ -1,7 +1,8 @@
 // Bodies whose motion another system computes: the links of an articulation. They are bodies of
 // the RigidBodySystem for the broad and narrow phase, but the rigid solver neither integrates
-// nor pushes them directly: their contact rows are solved in the rigid bodies' substeps, in
-// sequence after the coloured constraints, through the owner's response (DESIGN.md section 1:
+// nor pushes them directly: their contact rows, and the rows of the ball joints on them (loops),
+// are solved in the rigid bodies' substeps, in sequence after the coloured constraints, through
+// the owner's response (DESIGN.md section 1:
 // dynamics defines the rows and stages, a higher layer implements them for its links).
 #pragma once
 
