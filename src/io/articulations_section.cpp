@@ -139,17 +139,10 @@ void readLink(const Node& n, const MaterialTable& materials, bool floatingRoot,
     for (const char* key : {"com", "inertia"})
       if (n.has(key)) n.at(key).fail("only with \"mass\"");
     if (massShapes.empty()) n.fail("a link needs \"mass\" or shapes to take it from");
-    try {
-      link.inertia = art::inertiaFromShapes<Real>(massShapes);
-    } catch (const InvalidArgument& e) {
-      n.at("shapes").fail(e.what());
-    }
+    link.inertia =
+        checked(n.at("shapes"), [&] { return art::inertiaFromShapes<Real>(massShapes); });
   }
-  try {
-    s.model.addLink(link);
-  } catch (const InvalidArgument& e) {
-    n.fail(e.what());
-  }
+  checked(n, [&] { s.model.addLink(link); });
 }
 
 // "q", "qd" or "drives" keyed by name: `find` gives the link a name stands for (-1 for none).
@@ -262,11 +255,7 @@ ArticulationDesc readArticulation(const Node& n, std::size_t index,
       if (robot && !v.has("max_force"))
         for (const UrdfJoint& j : robot->joints)
           if (j.link == i) drive.maxForce = j.effort;
-      try {
-        s.model.setDrive(s.model.link(i).vIndex, drive);
-      } catch (const InvalidArgument& e) {
-        v.fail(e.what());
-      }
+      checked(v, [&] { s.model.setDrive(s.model.link(i).vIndex, drive); });
     });
   return d;
 }

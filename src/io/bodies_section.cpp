@@ -11,8 +11,9 @@ namespace inertia::io::detail {
 
 namespace {
 
-constexpr std::string_view kMaterialKeys[] = {"density",         "friction",         "dynamic_friction",
-                                              "restitution",     "rolling_friction", "spinning_friction"};
+constexpr std::string_view kMaterialKeys[] = {"density",          "friction",
+                                              "dynamic_friction", "restitution",
+                                              "rolling_friction", "spinning_friction"};
 
 Material readMaterialObject(const Node& n, Material m) {
   n.requireObject(kMaterialKeys);
@@ -21,7 +22,8 @@ Material readMaterialObject(const Node& n, Material m) {
   if (n.has("dynamic_friction")) m.dynamicFriction = Real(n.at("dynamic_friction").number(0, 1e3));
   if (n.has("restitution")) m.restitution = Real(n.at("restitution").number(0, 1));
   if (n.has("rolling_friction")) m.rollingFriction = Real(n.at("rolling_friction").number(0, 1e3));
-  if (n.has("spinning_friction")) m.spinningFriction = Real(n.at("spinning_friction").number(0, 1e3));
+  if (n.has("spinning_friction"))
+    m.spinningFriction = Real(n.at("spinning_friction").number(0, 1e3));
   return m;
 }
 
@@ -52,7 +54,8 @@ std::optional<Vec3> readColor(const Node& owner) {
   if (!owner.has("color")) return std::nullopt;
   Node c = owner.at("color");
   const Vec3 rgb = c.vec3();
-  if ((rgb.array() < 0).any() || (rgb.array() > 1).any()) c.fail("color components must be in [0, 1]");
+  if ((rgb.array() < 0).any() || (rgb.array() > 1).any())
+    c.fail("color components must be in [0, 1]");
   return rgb;
 }
 
@@ -136,7 +139,8 @@ void readGenerator(const Node& n, const std::string& type, const MaterialTable& 
       if (total > 1000000) counts.fail("a grid may hold at most 1000000 bodies");
       if (n.has("spacing")) {
         Node sp = n.at("spacing");
-        s.spacing = sp.json().is_number() ? Vec3::Constant(Real(sp.number(0, 1e6, true))) : sp.vec3();
+        s.spacing =
+            sp.json().is_number() ? Vec3::Constant(Real(sp.number(0, 1e6, true))) : sp.vec3();
       }
       s.origin = origin;
       Transform unused;
@@ -150,7 +154,8 @@ void readGenerator(const Node& n, const std::string& type, const MaterialTable& 
       s.count = int(n.at("count").integer(1, 1000000));
       s.lower = n.at("lower").vec3();
       s.upper = n.at("upper").vec3();
-      if ((s.lower.array() > s.upper.array()).any()) n.at("upper").fail("upper must be >= lower on every axis");
+      if ((s.lower.array() > s.upper.array()).any())
+        n.at("upper").fail("upper must be >= lower on every axis");
       s.shape = readBodyShape(n.at("shape"), BodyType::Dynamic, table, material).shape;
       if (n.has("seed")) s.seed = std::uint64_t(n.at("seed").integer(0, (1LL << 53)));
       s.material = material;
@@ -220,7 +225,8 @@ void readRagdolls(const Node& n, const MaterialTable& table, Scene& scene) {
 
 MaterialTable readMaterials(const Node& n) {
   MaterialTable table;
-  if (!n.json().is_object()) n.fail("expected an object of named materials, got " + typeName(n.json()));
+  if (!n.json().is_object())
+    n.fail("expected an object of named materials, got " + typeName(n.json()));
   for (auto it = n.json().begin(); it != n.json().end(); ++it) {
     Material m = readMaterialObject(n.at(it.key()), Material{});
     table.emplace(it.key(), m);
@@ -262,11 +268,7 @@ void readBodies(const Node& n, std::size_t index, const MaterialTable& table, Sc
   if (n.has("gravity_scale")) s.gravityScale = Real(n.at("gravity_scale").number(-1e6, 1e6));
   if (n.has("bullet")) s.bullet = n.at("bullet").boolean();
   if (n.has("allow_sleep")) s.allowSleep = n.at("allow_sleep").boolean();
-  try {
-    validate(s);
-  } catch (const InvalidArgument& e) {
-    n.fail(e.what());
-  }
+  checked(n, [&] { validate(s); });
   const Material bodyMaterial = readMaterialRef(n, table, Material{});
   if (n.has("shapes")) {
     Node list = n.at("shapes");
