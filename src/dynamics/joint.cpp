@@ -128,10 +128,6 @@ void alignFrameB(const Data& D, JointRecord& j) {
   j.frameB.q = rotationOf(D, j.bodyB).conjugate() * rotationOf(D, j.bodyA) * j.frameA.q;
 }
 
-Transform worldFrame(const Data& D, std::uint32_t body, const Transform& frame) {
-  return body == kWorldBody ? frame : D.bodies[body].pose * frame;
-}
-
 }  // namespace
 
 std::string_view jointTypeName(JointType type) {

@@ -633,9 +633,8 @@ Real axisError(const JointAxis& axis, Real coordinate) {
 }  // namespace
 
 JointError jointError(const RigidBodyData& D, const JointRecord& j) {
-  const Transform poseA = j.bodyA == kWorldBody ? Transform{} : D.bodies[j.bodyA].pose;
-  const Transform fa = poseA * j.frameA;
-  const Transform fb = D.bodies[j.bodyB].pose * j.frameB;
+  const Transform fa = worldFrame(D, j.bodyA, j.frameA);
+  const Transform fb = worldFrame(D, j.bodyB, j.frameB);
   const Vec3 d = fb.p - fa.p;
   const Vec3 x = axisOf(fa.q, 0);
   JointError e;

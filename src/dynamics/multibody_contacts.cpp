@@ -147,16 +147,12 @@ void updateJointMass(Data& D, MultibodyJoint& m) {
 // A driven joint's anchors, effective mass and last step's impulse.
 void prepareJointPoints(Data& D, MultibodyJoint& m) {
   const JointRecord& j = D.joints[m.joint];
-  const auto anchor = [&](std::uint32_t body, const Transform& frame) {
-    return body == kWorldBody ? frame.p : D.bodies[body].pose.apply(frame.p);
-  };
-  const Vec3 pA = anchor(j.bodyA, j.frameA), pB = anchor(j.bodyB, j.frameB);
+  const Vec3 pA = worldFrame(D, j.bodyA, j.frameA).p, pB = worldFrame(D, j.bodyB, j.frameB).p;
   if (m.a.body >= 0) m.rA = pA - D.bodies[j.bodyA].com;
   if (m.b.body >= 0) m.rB = pB - D.bodies[j.bodyB].com;
   m.handle[0] = m.a.group >= 0 ? response(D, m.a).addPoint(D.bodies[j.bodyA].member, pA) : -1;
   m.handle[1] = m.b.group >= 0 ? response(D, m.b).addPoint(D.bodies[j.bodyB].member, pB) : -1;
   m.separation = pB - pA;
-  m.stamp = -1;
   m.impulse = j.parts.lockImpulse.head<3>();
 }
 

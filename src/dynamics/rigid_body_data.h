@@ -386,6 +386,11 @@ struct RigidBodyData {
   }
 };
 
+/// A joint's frame on `body` (kWorldBody: the frame is the world's) in world coordinates.
+inline Transform worldFrame(const RigidBodyData& D, std::uint32_t body, const Transform& frame) {
+  return body == kWorldBody ? frame : D.bodies[body].pose * frame;
+}
+
 /// Whether a joint has a driven body (an articulation's link) on a side: it is solved as a
 /// MultibodyJoint, not in the constraint graph.
 inline bool drivenJoint(const RigidBodyData& D, const JointRecord& j) {

@@ -61,29 +61,18 @@ constexpr std::array<SolverEntry, 4> kSolvers{{{SolverType::SoftStep, "soft_step
 // scale: in float it underflows to zero below about 2e-13 kg m^2 (a sphere of water 0.3 mm
 // across) and the inverse is infinite or NaN. Scaled by a power of two near its largest
 // entry first, and the result back: exact, so the same bits wherever nothing underflowed.
-//
-// The cofactor inverse holds a tensor of condition number k to about eps k (its residual
-// |S S^-1 - 1| says how well). Past k = 1e-2 / eps (1e5 in float: a rod 800 times longer than
-// thick, or a fuzzed hull of 1e5 m vertices on a 3 m sphere) the determinant cancels and the
-// inverse is infinite, indefinite, or wrong by more than 1% in every direction. Such a tensor is
-// inverted in its principal axes instead, its moments raised to 1e-2 / eps below the largest:
-// what the world-frame 3x3 inverse the solver applies can hold to 1% (the spin about the long
-// axis is then slower than the true one). Every tensor the cofactors invert within 1% keeps
-// that inverse, bit for bit as before; an axis-aligned needle's diagonal tensor always does.
 Mat3 inverseInertia(const Mat3& inertia) {
   int exponent = 0;
   std::frexp(inertia.cwiseAbs().maxCoeff(), &exponent);
   const Real scale = std::ldexp(Real(1), -exponent);
-  const Mat3 scaled = inertia * scale;
-  const Mat3 inverse = scaled.inverse();
-  if (inverse.allFinite() &&
-      (scaled * inverse - Mat3::Identity()).cwiseAbs().maxCoeff() <= kInverseResidual)
-    return inverse * scale;
-  const Real floor = std::numeric_limits<Real>::epsilon() / kInverseResidual;
-  const Eigen::SelfAdjointEigenSolver<Mat3> eig(scaled);
-  const Vec3 moments = eig.eigenvalues().cwiseMax(floor * eig.eigenvalues().maxCoeff());
-  return eig.eigenvectors() * moments.cwiseInverse().asDiagonal() * eig.eigenvectors().transpose() *
-         scale;
+  return (inertia * scale).inverse() * scale;
+}
+
+// Whether `inverse` answers for `inertia` within kInverseResidual: |I I^-1 - 1|, about eps
+// times the condition number.
+bool holds(const Mat3& inertia, const Mat3& inverse) {
+  return inverse.allFinite() &&
+         (inertia * inverse - Mat3::Identity()).cwiseAbs().maxCoeff() <= kInverseResidual;
 }
 
 // A dynamic shape whose mass or principal moments Real cannot hold with room to spare (a
@@ -181,10 +170,22 @@ void Data::updateMass(BodyRecord& b) {
     b.invInertiaLocal = inverseInertia(b.inertiaLocal);
     // Principal axes for the free-rotation splitting (a proper rotation).
     Eigen::SelfAdjointEigenSolver<Mat3> eig(b.inertiaLocal);
+    Vec3 moments = eig.eigenvalues();
+    if (!holds(b.inertiaLocal, b.invInertiaLocal)) {
+      // A tensor conditioned beyond what Real inverts (kInverseResidual, body.h): a body far
+      // longer than thick, as a fuzzed hull 100 km from a thin cylinder. Its smallest moments
+      // are raised to a quarter of that condition, here once, so that the tensor, its inverse,
+      // the gyroscopic step and the free rotation all answer for the same body.
+      moments = moments.cwiseMax(4 * std::numeric_limits<Real>::epsilon() / kInverseResidual *
+                                 moments.maxCoeff());
+      b.inertiaLocal = eig.eigenvectors() * moments.asDiagonal() * eig.eigenvectors().transpose();
+      b.inertiaLocal = Real(0.5) * (b.inertiaLocal + b.inertiaLocal.transpose());
+      b.invInertiaLocal = inverseInertia(b.inertiaLocal);
+    }
     Mat3 axes = eig.eigenvectors();
     if (axes.determinant() < 0) axes.col(2) = -axes.col(2);
     b.principalAxes = Quat(axes).normalized();
-    b.principalMoments = eig.eigenvalues().cwiseMax(Real(1e-12) * eig.eigenvalues().maxCoeff());
+    b.principalMoments = moments.cwiseMax(Real(1e-12) * moments.maxCoeff());
   }
   for (std::uint32_t si : b.shapes) {
     const ShapeRecord& s = shapes[si];
