@@ -43,6 +43,7 @@ struct Result {
   double strain = 0;       // largest structural strain at the end
   double penetration = 0;  // deepest distance below the sphere's surface (m), over all steps
   double speed = 0;        // fastest vertex at the end (m/s)
+  double newton = 0;       // Inertia: Newton iterations per step
   double extra = 0;        // Inertia: PCG iterations per step
 };
 
@@ -64,17 +65,19 @@ Result runInertia(bool selfCollision, double tolerance) {
   d.addObstacle({Collider(Sphere{kRadius}), Transform{}});
   Result r;
   double seconds = 0;
-  long iterations = 0;
+  long iterations = 0, newton = 0;
   for (int s = 0; s < kSteps; ++s) {
     const auto t0 = Clock::now();
     d.step(kDt);
     seconds += std::chrono::duration<double>(Clock::now() - t0).count();
     iterations += d.lastSolve().iterations;
+    newton += d.lastSolve().newtonIterations;
     for (std::size_t i = 0; i < d.vertexCount(); ++i)
       r.penetration = std::max(r.penetration, below(d.position(i)));
   }
   r.msPerStep = 1e3 * seconds / kSteps;
   r.extra = double(iterations) / kSteps;
+  r.newton = double(newton) / kSteps;
   for (const Spring& sp : d.springs())
     if (sp.kind == SpringKind::Stretch)
       r.strain = std::max(r.strain,
@@ -144,7 +147,7 @@ void row(const char* name, const Result& r, bool iterations) {
   std::printf("| %s | %.2f | %.3f | %.4f | %.3f |", name, r.msPerStep, r.strain, r.penetration,
               r.speed);
   if (iterations)
-    std::printf(" %.0f |\n", r.extra);
+    std::printf(" %.1f / %.0f |\n", r.newton, r.extra);
   else
     std::printf(" - |\n");
 }
@@ -156,8 +159,8 @@ int main() {
       "Cloth 40 x 40 (1,681 vertices) dropped on a sphere, %d steps of 1/60 s, one thread.\n\n",
       kSteps);
   std::printf(
-      "| engine | ms/step | max strain | deepest in sphere (m) | max speed at end (m/s) | PCG "
-      "iterations/step |\n|---|---|---|---|---|---|\n");
+      "| engine | ms/step | max strain | deepest in sphere (m) | max speed at end (m/s) | Newton / "
+      "PCG iterations per step |\n|---|---|---|---|---|---|\n");
   const Result plain = runInertia(false, 1e-6);
   row("Inertia implicit Euler, tolerance 1e-6", plain, true);
   const Result loose = runInertia(false, 1e-3);

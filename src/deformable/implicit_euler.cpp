@@ -48,6 +48,9 @@ void ImplicitEuler::start(const ImplicitEulerInput& in, double h, std::span<cons
   for (const AttachmentTerm& a : in.attachments)
     if (!in.pinned[a.vertex])
       anchorDiagonal_.segment<3>(3 * Eigen::Index(a.vertex)).array() += h * h * a.k + h * a.c;
+  pinnedList_.clear();
+  for (std::size_t i = 0; i < in.pinned.size(); ++i)
+    if (in.pinned[i]) pinnedList_.push_back(std::uint32_t(i));
   u0_.resize(in.springs.size());
   blocks_.resize(in.springs.size());
   for (std::size_t k = 0; k < in.springs.size(); ++k) {
@@ -85,45 +88,80 @@ const Eigen::VectorXd& ImplicitEuler::gradient(const Eigen::VectorXd& v) {
 }
 
 // Psi's Hessian H = M^ + h^2 K~(x) + h C at the current iterate: each spring's block enters at
-// (a, a), (b, b) with + and at (a, b), (b, a) with -; its diagonal is the Jacobi preconditioner.
+// (a, a), (b, b) with + and at (a, b), (b, a) with -. Its 3 x 3 diagonal blocks, inverted, are
+// the preconditioner (block Jacobi: a stretched spring couples a vertex's three components).
 void ImplicitEuler::assemble(const Eigen::VectorXd& v) {
   const double h = h_;
   x_ = x0_ + h * v;
   diagonal_ = massDiagonal_ + anchorDiagonal_;
-  inverseDiagonal_ = diagonal_;
+  const std::size_t n = in_->masses.size();
+  inverseBlocks_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double* d = diagonal_.data() + 3 * i;
+    inverseBlocks_[i] = {d[0], d[1], d[2], 0, 0, 0};
+  }
   for (std::size_t k = 0; k < in_->springs.size(); ++k) {
     if (in_->broken[k]) continue;
     const Spring& s = in_->springs[k];
     const Eigen::Vector3d& u0 = u0_[k];
-    blocks_[k] = h * h * surrogate(s, u0).stiffness(seg(x_, s.a) - seg(x_, s.b)) +
-                 h * double(s.damping) * u0 * u0.transpose();
-    inverseDiagonal_.segment<3>(3 * Eigen::Index(s.a)) += blocks_[k].diagonal();
-    inverseDiagonal_.segment<3>(3 * Eigen::Index(s.b)) += blocks_[k].diagonal();
+    const Eigen::Matrix3d b = h * h * surrogate(s, u0).stiffness(seg(x_, s.a) - seg(x_, s.b)) +
+                              h * double(s.damping) * u0 * u0.transpose();
+    blocks_[k] = {b(0, 0), b(1, 1), b(2, 2), b(0, 1), b(0, 2), b(1, 2)};
+    for (std::uint32_t e : {s.a, s.b})
+      for (int c = 0; c < 6; ++c) inverseBlocks_[e][std::size_t(c)] += blocks_[k][std::size_t(c)];
   }
-  inverseDiagonal_ = inverseDiagonal_.cwiseInverse();
+  for (SymmetricBlock& d : inverseBlocks_) {
+    Eigen::Matrix3d m;
+    m << d[0], d[3], d[4], d[3], d[1], d[5], d[4], d[5], d[2];
+    const Eigen::Matrix3d inverse = m.inverse();
+    d = {inverse(0, 0), inverse(1, 1), inverse(2, 2), inverse(0, 1), inverse(0, 2), inverse(1, 2)};
+  }
 }
 
+// out = P^-1 r, P the Hessian's 3 x 3 diagonal blocks.
+void ImplicitEuler::precondition(const Eigen::VectorXd& r, Eigen::VectorXd& out) const {
+  out.resize(r.size());
+  for (std::size_t i = 0; i < inverseBlocks_.size(); ++i) {
+    const SymmetricBlock& b = inverseBlocks_[i];
+    const double* ri = r.data() + 3 * i;
+    double* oi = out.data() + 3 * i;
+    oi[0] = b[0] * ri[0] + b[3] * ri[1] + b[4] * ri[2];
+    oi[1] = b[3] * ri[0] + b[1] * ri[1] + b[5] * ri[2];
+    oi[2] = b[4] * ri[0] + b[5] * ri[1] + b[2] * ri[2];
+  }
+}
+
+// The product the conjugate gradients spend their time in: one pass over the springs, each
+// block applied to w_a - w_b and added at a, subtracted at b.
 void ImplicitEuler::apply(const Eigen::VectorXd& w, Eigen::VectorXd& out) const {
   out = diagonal_.cwiseProduct(w);
+  const double* wp = w.data();
+  double* op = out.data();
   for (std::size_t k = 0; k < in_->springs.size(); ++k) {
     if (in_->broken[k]) continue;
     const Spring& s = in_->springs[k];
-    const Eigen::Vector3d y = blocks_[k] * (seg(w, s.a) - seg(w, s.b));
-    out.segment<3>(3 * Eigen::Index(s.a)) += y;
-    out.segment<3>(3 * Eigen::Index(s.b)) -= y;
+    const SymmetricBlock& b = blocks_[k];
+    const double* wa = wp + 3 * std::size_t(s.a);
+    const double* wb = wp + 3 * std::size_t(s.b);
+    const double d0 = wa[0] - wb[0], d1 = wa[1] - wb[1], d2 = wa[2] - wb[2];
+    const double y0 = b[0] * d0 + b[3] * d1 + b[4] * d2;
+    const double y1 = b[3] * d0 + b[1] * d1 + b[5] * d2;
+    const double y2 = b[4] * d0 + b[5] * d1 + b[2] * d2;
+    double* oa = op + 3 * std::size_t(s.a);
+    double* ob = op + 3 * std::size_t(s.b);
+    oa[0] += y0, oa[1] += y1, oa[2] += y2;
+    ob[0] -= y0, ob[1] -= y1, ob[2] -= y2;
   }
 }
 
 void ImplicitEuler::filterPinned(Eigen::VectorXd& w) const {
-  for (std::size_t i = 0; i < in_->pinned.size(); ++i)
-    if (in_->pinned[i]) w.segment<3>(3 * Eigen::Index(i)).setZero();
+  for (std::uint32_t i : pinnedList_) w.segment<3>(3 * Eigen::Index(i)).setZero();
 }
 
 // Baraff-Witkin's filter with S_i = 0 for a pinned vertex (all three directions constrained).
 // and S_i = I - n n^T for a vertex held against a body along n.
 void ImplicitEuler::filter(Eigen::VectorXd& w) const {
-  for (std::size_t i = 0; i < in_->pinned.size(); ++i)
-    if (in_->pinned[i]) w.segment<3>(3 * Eigen::Index(i)).setZero();
+  filterPinned(w);
   for (std::size_t k = 0; k < in_->contacts.size(); ++k) {
     if (!held_[k]) continue;
     const ContactConstraint& c = in_->contacts[k];
@@ -168,12 +206,10 @@ double ImplicitEuler::lineSearch(const Eigen::VectorXd& p) {
 
 // Newton's method on Psi from v_, with the contacts held as they are; false when it failed to
 // give finite values.
-bool ImplicitEuler::newton(const ImplicitEulerInput& in, ImplicitSolveReport& report) {
+bool ImplicitEuler::newton(const ImplicitEulerInput& in, double reference,
+                           ImplicitSolveReport& report) {
   const Eigen::Index n3 = v_.size();
   gradient(v_);
-  Eigen::VectorXd scale = massDiagonal_.cwiseProduct(v0_) + h_ * f0_;
-  filter(scale);
-  const double reference = scale.norm() + g_.norm();
   const double target = in.tolerance * reference;
   report.converged = false;
   double previous = g_.norm();
@@ -191,10 +227,13 @@ bool ImplicitEuler::newton(const ImplicitEulerInput& in, ImplicitSolveReport& re
         std::clamp(std::max(0.9 * ratio * ratio, 0.1 * target / norm), in.tolerance, 0.1);
     const auto applyH = [this](const Eigen::VectorXd& w, Eigen::VectorXd& out) { apply(w, out); };
     const auto filterS = [this](Eigen::VectorXd& w) { filter(w); };
+    const auto blockJacobi = [this](const Eigen::VectorXd& r, Eigen::VectorXd& out) {
+      precondition(r, out);
+    };
     p_.setZero(n3);
     trial_ = -g_;
     report.iterations +=
-        modifiedPcg(applyH, filterS, inverseDiagonal_, trial_, p_, forcing, in.maxIterations, pcg_)
+        modifiedPcg(applyH, filterS, blockJacobi, trial_, p_, forcing, in.maxIterations, pcg_)
             .iterations;
     ++report.newtonIterations;
     if (!p_.allFinite()) return false;
@@ -207,6 +246,34 @@ bool ImplicitEuler::newton(const ImplicitEulerInput& in, ImplicitSolveReport& re
   report.error = reference > 0 ? g_.norm() / reference : 0.0;
   report.energySlack = std::max(0.0, g_.dot(v_));
   return v_.allFinite();
+}
+
+// Newton's tolerance is relative to |filter(M^ v0 + h f0)| + |G| at the velocities it starts
+// from: the step's momentum and how far the start is from balanced.
+double ImplicitEuler::reference() {
+  gradient(v_);
+  trial_ = massDiagonal_.cwiseProduct(v0_) + h_ * f0_;
+  filter(trial_);
+  return trial_.norm() + g_.norm();
+}
+
+// Newton starts from the lowest Psi of three guesses: the start's velocities, the fields' free
+// motion v0 + h M^-1 f0 (a cloth in free fall) and v0 plus the last step's change (a cloth
+// settling or swinging at a steady rate). Only the start moves: the minimiser, and so the step,
+// are those of Psi whichever guess wins, to the tolerance.
+void ImplicitEuler::predict() {
+  x_ = x0_ + h_ * v_;
+  trial_ = h_ * f0_.cwiseQuotient(massDiagonal_);
+  filter(trial_);
+  p_.setZero(v_.size());
+  double best = 0;
+  if (const double change = psiChange(trial_, 1); change < best) best = change, p_ = trial_;
+  if (previousChange_.size() == v_.size()) {
+    trial_ = previousChange_;
+    filter(trial_);
+    if (const double change = psiChange(trial_, 1); change < best) best = change, p_ = trial_;
+  }
+  v_ += p_;
 }
 
 // A contact whose impulse came out negative would hold the vertex to the body: it is let go
@@ -236,14 +303,18 @@ ImplicitSolveReport ImplicitEuler::step(const ImplicitEulerInput& in, Real hr, s
     vi += c.normal * (c.normalVelocity - c.normal.dot(vi));
   }
   filterPinned(v_);
-  bool finite = newton(in, report);
+  const double first = reference();
+  predict();
+  bool finite = newton(in, first, report);
   for (int pass = 0; finite && pass < 4 && releasePullingContacts(); ++pass)
-    finite = newton(in, report);
+    finite = newton(in, reference(), report);
   if (!finite) {
     report.converged = false;
     for (ContactConstraint& c : in.contacts) c.impulse = 0;
+    previousChange_.resize(0);
     return report;
   }
+  previousChange_ = v_ - v0_;
   x_ = x0_ + h_ * v_;
   Eigen::Map<VecX>(v.data(), n3) = v_.cast<Real>();
   Eigen::Map<VecX>(x.data(), n3) = x_.cast<Real>();

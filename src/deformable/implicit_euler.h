@@ -24,6 +24,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -84,6 +85,8 @@ class ImplicitEuler {
   /// The last Newton system: out = H w, H = M^ + h^2 K~ + h C at the last iterate.
   void apply(const Eigen::VectorXd& w, Eigen::VectorXd& out) const;
   void filter(Eigen::VectorXd& w) const;
+  /// out = P^-1 r with P the block diagonal of the last Newton system.
+  void precondition(const Eigen::VectorXd& r, Eigen::VectorXd& out) const;
   void filterPinned(Eigen::VectorXd& w) const;
   /// Psi's gradient G at velocities v (N s), pinned components zeroed.
   const Eigen::VectorXd& gradient(const Eigen::VectorXd& v);
@@ -92,19 +95,30 @@ class ImplicitEuler {
   void start(const ImplicitEulerInput& in, double h, std::span<const Real> x,
              std::span<const Real> v);
   void assemble(const Eigen::VectorXd& v);
-  bool newton(const ImplicitEulerInput& in, ImplicitSolveReport& report);
+  double reference();
+  bool newton(const ImplicitEulerInput& in, double reference, ImplicitSolveReport& report);
   bool releasePullingContacts();
   double lineSearch(const Eigen::VectorXd& p);
   double psiChange(const Eigen::VectorXd& p, double alpha) const;
+
+  /// A symmetric 3 x 3 block: xx, yy, zz, xy, xz, yz.
+  using SymmetricBlock = std::array<double, 6>;
+
+  void predict();
 
   const ImplicitEulerInput* in_ = nullptr;
   double h_ = 0;
   std::vector<std::uint8_t> held_;       // per contact: still in the filter
   std::vector<Eigen::Vector3d> u0_;      // each spring's direction at the start (0: collapsed)
-  std::vector<Eigen::Matrix3d> blocks_;  // h^2 K~ + h c u0 u0^T per spring, at the last iterate
+  std::vector<SymmetricBlock> blocks_;   // h^2 K~ + h c u0 u0^T per spring, at the last iterate
+  std::vector<SymmetricBlock> inverseBlocks_;  // per vertex: H's diagonal block, inverted
+  std::vector<std::uint32_t> pinnedList_;  // the pinned vertices, for the filters
+  // State carried from step to step (copied with the deformable): the last step's velocity
+  // change, Newton's second starting guess (implicit_euler.cpp, predict).
+  Eigen::VectorXd previousChange_;
   Eigen::VectorXd anchorDiagonal_;       // h^2 k + h c of the attachments, per component
   Eigen::VectorXd diagonal_;             // M^ + the attachments' part: H's diagonal before springs
-  Eigen::VectorXd x0_, v0_, v_, x_, f0_, massDiagonal_, inverseDiagonal_, g_, p_, trial_;
+  Eigen::VectorXd x0_, v0_, v_, x_, f0_, massDiagonal_, g_, p_, trial_;
   PcgBuffers pcg_;
 };
 

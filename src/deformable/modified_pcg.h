@@ -21,22 +21,24 @@ struct PcgBuffers {
 
 /// Solves A dv = b for the free components, dv holding the prescribed values z on entry
 /// (zero where nothing is prescribed). `apply(w, out)` writes A w; `filter(w)` zeroes the
-/// constrained components of w; `inverseDiagonal` is the Jacobi preconditioner P^-1 = 1 / A_ii.
+/// constrained components of w; `precondition(r, out)` writes P^-1 r for a symmetric positive
+/// definite P (Jacobi's diagonal, or its 3 x 3 blocks).
 /// Stops when r^T P^-1 r <= tolerance^2 * (filter(b)^T P^-1 filter(b)) or after maxIterations.
 /// Reports the iterations and the relative residual |filter(b - A dv)| / |filter(b)|.
-template <class Apply, class Filter>
+template <class Apply, class Filter, class Precondition>
 ode::LinearSolveReport modifiedPcg(const Apply& apply, const Filter& filter,
-                                   const Eigen::VectorXd& inverseDiagonal, const Eigen::VectorXd& b,
+                                   const Precondition& precondition, const Eigen::VectorXd& b,
                                    Eigen::VectorXd& dv, double tolerance, int maxIterations,
                                    PcgBuffers& w) {
   w.resize(b.size());
   w.filteredB = b;
   filter(w.filteredB);
-  const double delta0 = w.filteredB.dot(inverseDiagonal.cwiseProduct(w.filteredB));
+  precondition(w.filteredB, w.s);
+  const double delta0 = w.filteredB.dot(w.s);
   apply(dv, w.q);
   w.r = b - w.q;
   filter(w.r);
-  w.c = inverseDiagonal.cwiseProduct(w.r);
+  precondition(w.r, w.c);
   filter(w.c);
   double deltaNew = w.r.dot(w.c);
   ode::LinearSolveReport report;
@@ -48,7 +50,7 @@ ode::LinearSolveReport modifiedPcg(const Apply& apply, const Filter& filter,
     const double alpha = deltaNew / curvature;
     dv += alpha * w.c;
     w.r -= alpha * w.q;
-    w.s = inverseDiagonal.cwiseProduct(w.r);
+    precondition(w.r, w.s);
     const double deltaOld = deltaNew;
     deltaNew = w.r.dot(w.s);
     w.c = w.s + (deltaNew / deltaOld) * w.c;

@@ -99,10 +99,13 @@ TEST(ImplicitEuler, ModifiedPcgConvergesToItsTolerance) {
   };
   const auto apply = [&](const VectorXd& w, VectorXd& out) { out = a * w; };
   const VectorXd inverseDiagonal = a.diagonal().cwiseInverse();
+  const auto jacobi = [&](const VectorXd& r, VectorXd& out) {
+    out = inverseDiagonal.cwiseProduct(r);
+  };
   VectorXd dv = VectorXd::Zero(b.size());
   detail::PcgBuffers buffers;
   const ode::LinearSolveReport report =
-      detail::modifiedPcg(apply, filter, inverseDiagonal, b, dv, tol, 1000, buffers);
+      detail::modifiedPcg(apply, filter, jacobi, b, dv, tol, 1000, buffers);
   EXPECT_TRUE(report.converged);
   EXPECT_GT(report.iterations, 3);
   VectorXd residual = a * dv - b, filteredB = b;
