@@ -205,7 +205,7 @@ void Deformable::step(Real h) {
   collide(h);
   if (settings_.selfCollision) {
     Deformable* self = this;
-    collideDeformables({&self, 1}, h);
+    collideDeformables({&self, 1}, h, scratch_->selfCollision);
   }
   tear();
 }

@@ -22,6 +22,7 @@ struct Deformable::Scratch {
   std::vector<detail::ContactConstraint> contacts;  // vertices held against dynamic bodies
   std::vector<std::size_t> contactObstacles;        // each one's index into moving_
   std::vector<Aabb> obstacleBounds;  // world bounds of obstacles_, then of moving_
+  DeformableCollisionCache selfCollision;
 };
 
 }  // namespace inertia

@@ -177,7 +177,7 @@ void World::stepDeformables(Real dt, bool& obstaclesGathered) {
   for (DeformableSlot& slot : deformableSlots_)
     if (slot.deformable && slot.deformable->settings().selfCollision)
       colliding_.push_back(slot.deformable.get());
-  if (colliding_.size() >= 2) Deformable::collideDeformables(colliding_, dt);
+  if (colliding_.size() >= 2) Deformable::collideDeformables(colliding_, dt, deformableCollisions_);
   phases_.deformables +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }

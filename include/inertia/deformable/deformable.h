@@ -78,6 +78,26 @@ struct ImplicitSolveReport {
   bool converged = true;  ///< False if the tolerance was not met or the result was not finite.
 };
 
+/// What Deformable::collideDeformables keeps from call to call: bounding-volume trees over the
+/// triangles' and edges' swept boxes and the stage's buffers, so that a step after warm-up
+/// allocates nothing while the deformables stay the same. Not part of a deformable's state: a
+/// copy starts empty.
+class DeformableCollisionCache {
+ public:
+  DeformableCollisionCache();
+  ~DeformableCollisionCache();
+  DeformableCollisionCache(const DeformableCollisionCache&);
+  DeformableCollisionCache& operator=(const DeformableCollisionCache&);
+  DeformableCollisionCache(DeformableCollisionCache&&) noexcept;
+  DeformableCollisionCache& operator=(DeformableCollisionCache&&) noexcept;
+
+  struct Impl;  ///< Opaque: src/deformable/self_collision.cpp.
+
+ private:
+  friend class Deformable;
+  std::unique_ptr<Impl> impl_;
+};
+
 /// A spring that broke: the step's strain exceeded DeformableSettings::tearStrain.
 struct TearEvent {
   std::size_t spring = 0;      ///< Index into Deformable::springs().
@@ -163,8 +183,10 @@ class Deformable {
   /// The collision stage of self-collision run over several deformables' last steps at once
   /// (each stepped by h from where its own step started): their vertices and triangles collide
   /// with each other's as with their own. A World calls it for its deformables with
-  /// selfCollision after stepping them.
-  static void collideDeformables(std::span<Deformable* const> deformables, Real h);
+  /// selfCollision after stepping them. `cache` holds the stage's trees and buffers between
+  /// calls; the result does not depend on what it holds.
+  static void collideDeformables(std::span<Deformable* const> deformables, Real h,
+                                 DeformableCollisionCache& cache);
 
   /// The springs that broke during the last step.
   std::span<const TearEvent> tearEvents() const { return tearEvents_; }

@@ -250,6 +250,7 @@ class World {
   std::vector<MovingObstacle> bodyObstacles_;  // scratch of step(), reused
   std::vector<BodyId> obstacleBodies_;         // the body of each of bodyObstacles_
   std::vector<Deformable*> colliding_;         // deformables with self-collision, per step
+  DeformableCollisionCache deformableCollisions_;  // their collisions' trees and buffers
 };
 
 }  // namespace inertia
