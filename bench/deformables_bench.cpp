@@ -15,6 +15,8 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <thread>
+#include <utility>
 #include <vector>
 
 #include "inertia/deformable/deformable.h"
@@ -49,7 +51,8 @@ struct Result {
 
 double below(const Vec3& x) { return std::max(0.0, double(kRadius) - double(x.norm())); }
 
-Result runInertia(bool selfCollision, double tolerance) {
+Result runInertia(bool selfCollision, double tolerance, ThreadPool* pool = nullptr,
+                  std::vector<Real>* end = nullptr) {
   MassSpringModel m = cloth({.pose = {Vec3(0, kHeight, 0), Quat::Identity()},
                              .size = {1, 1},
                              .resolution = {kCells, kCells},
@@ -68,7 +71,7 @@ Result runInertia(bool selfCollision, double tolerance) {
   long iterations = 0, newton = 0;
   for (int s = 0; s < kSteps; ++s) {
     const auto t0 = Clock::now();
-    d.step(kDt);
+    d.step(kDt, pool);
     seconds += std::chrono::duration<double>(Clock::now() - t0).count();
     iterations += d.lastSolve().iterations;
     newton += d.lastSolve().newtonIterations;
@@ -84,6 +87,10 @@ Result runInertia(bool selfCollision, double tolerance) {
                           double((d.position(sp.a) - d.position(sp.b)).norm() / sp.restLength - 1));
   for (std::size_t i = 0; i < d.vertexCount(); ++i)
     r.speed = std::max(r.speed, double(d.velocity(i).norm()));
+  if (end)
+    for (std::size_t i = 0; i < d.vertexCount(); ++i)
+      for (const Vec3& value : {d.position(i), d.velocity(i)})
+        end->insert(end->end(), value.data(), value.data() + 3);
   return r;
 }
 
@@ -156,7 +163,8 @@ void row(const char* name, const Result& r, bool iterations) {
 
 int main() {
   std::printf(
-      "Cloth 40 x 40 (1,681 vertices) dropped on a sphere, %d steps of 1/60 s, one thread.\n\n",
+      "Cloth 40 x 40 (1,681 vertices) dropped on a sphere, %d steps of 1/60 s, one thread unless "
+      "said.\n\n",
       kSteps);
   std::printf(
       "| engine | ms/step | max strain | deepest in sphere (m) | max speed at end (m/s) | Newton / "
@@ -167,6 +175,22 @@ int main() {
   row("Inertia implicit Euler, tolerance 1e-3", loose, true);
   const Result self = runInertia(true, 1e-6);
   row("Inertia implicit Euler, 1e-6, + self-collision", self, true);
+  // The same run on 2 threads and on every core: the time, and whether the bytes agree.
+  std::vector<Real> serialEnd;
+  runInertia(false, 1e-6, nullptr, &serialEnd);
+  std::vector<int> counts = {2};
+  if (int(std::thread::hardware_concurrency()) > 2)
+    counts.push_back(int(std::thread::hardware_concurrency()));
+  std::vector<std::pair<int, bool>> identical;
+  for (int threads : counts) {
+    ThreadPool pool(threads);
+    std::vector<Real> end;
+    const Result r = runInertia(false, 1e-6, &pool, &end);
+    char name[96];
+    std::snprintf(name, sizeof name, "Inertia implicit Euler, tolerance 1e-6, %d threads", threads);
+    row(name, r, true);
+    identical.push_back({threads, end == serialEnd});
+  }
 #ifdef INERTIA_BENCH_BULLET
   const Result bullet = runBullet();
   row("Bullet btSoftBody (10 position iterations)", bullet, false);
@@ -177,5 +201,8 @@ int main() {
 #else
   std::printf("\nBullet not found at configure time: no btSoftBody comparison.\n");
 #endif
+  for (const auto& [threads, same] : identical)
+    std::printf("%d threads: final state %s the single thread's, byte for byte\n", threads,
+                same ? "equals" : "DIFFERS FROM");
   return 0;
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/thread_pool_impl.h"
 #include "deformable/scratch.h"
 #include "inertia/core/error.h"
 
@@ -189,14 +190,19 @@ void Deformable::setAttachmentMotion(std::size_t i, const Vec3& position, const 
 }
 
 // The step as a list of stages (each in its own file).
-void Deformable::step(Real h) {
+void Deformable::step(Real h, ThreadPool* pool) {
+  detail::StepWorkers::run(pool ? &pool->impl().arena : nullptr,
+                           [&](detail::StepWorkers& workers) { step(h, workers); });
+}
+
+void Deformable::step(Real h, detail::StepWorkers& workers) {
   require(std::isfinite(h) && h > 0, "Deformable::step: h must be finite and > 0 (s)");
   tearEvents_.clear();
   obstacleImpulses_.clear();
   scratch_->start = x_;
   if (settings_.integrator == ode::Method::BackwardEuler) {
     holdBodyContacts(h);
-    integrateImplicit(h);
+    integrateImplicit(h, workers);
     pushHeldContacts();
   } else
     integrateExplicit(h);

@@ -22,7 +22,73 @@ SurrogateSpring surrogate(const Spring& s, const Eigen::Vector3d& u0) {
 constexpr double kArmijo = 1e-4;
 constexpr double kSmallestStep = 1e-8;
 
+// Items per block of a parallel pass, and springs per partial sum of Psi's change (fixed, never
+// derived from the number of workers: it sets the sum's association).
+constexpr std::size_t kSpringGrain = 1024, kVertexGrain = 512, kChunk = 1024;
+
+
 }  // namespace
+
+namespace {
+
+// f(i) for i in [0, count), in blocks of `grain` on the step's workers (in sequence without).
+template <class F>
+void parallelItems(StepWorkers* workers, std::size_t count, std::size_t grain, F&& f) {
+  const auto block = [&](std::size_t first, std::size_t last) {
+    for (std::size_t i = first; i < last; ++i) f(i);
+  };
+  if (workers)
+    workers->parallelFor(count, grain, [&](std::size_t first, std::size_t last) {
+      block(first, last);
+    });
+  else
+    block(0, count);
+}
+
+}  // namespace
+
+template <class F>
+void ImplicitEuler::forSprings(F&& f) const {
+  parallelItems(workers_, in_->springs.size(), kSpringGrain, f);
+}
+
+template <class F>
+void ImplicitEuler::forVertices(F&& f) const {
+  parallelItems(workers_, in_->masses.size(), kVertexGrain, f);
+}
+
+void ImplicitEuler::gatherTerms(double* out) const {
+  forVertices([&](std::size_t i) {
+    double* o = out + 3 * i;
+    double o0 = o[0], o1 = o[1], o2 = o[2];
+    for (std::uint32_t e = firstIncident_[i]; e < firstIncident_[i + 1]; ++e) {
+      // x + (-1 t) is x - t exactly: no branch on the side.
+      const Incidence& c = incident_[e];
+      const std::array<double, 3>& t = terms_[c.spring];
+      o0 += c.sign * t[0], o1 += c.sign * t[1], o2 += c.sign * t[2];
+    }
+    o[0] = o0, o[1] = o1, o[2] = o2;
+  });
+}
+
+// Each vertex's springs, in spring order (a counting sort).
+void ImplicitEuler::connect() {
+  const std::size_t n = in_->masses.size();
+  firstIncident_.assign(n + 1, 0);
+  for (const Spring& s : in_->springs) ++firstIncident_[s.a + 1], ++firstIncident_[s.b + 1];
+  for (std::size_t i = 0; i < n; ++i) firstIncident_[i + 1] += firstIncident_[i];
+  incident_.resize(firstIncident_[n]);
+  // firstIncident_[i] is vertex i's fill cursor, which ends at i + 1's start: shift back after.
+  for (std::uint32_t k = 0; k < in_->springs.size(); ++k) {
+    const Spring& s = in_->springs[k];
+    incident_[firstIncident_[s.a]++] = {k, s.b, 1.0};
+    incident_[firstIncident_[s.b]++] = {k, s.a, -1.0};
+  }
+  for (std::size_t i = n; i > 0; --i) firstIncident_[i] = firstIncident_[i - 1];
+  firstIncident_[0] = 0;
+  terms_.resize(in_->springs.size());
+  partials_.resize((in_->springs.size() + kChunk - 1) / kChunk);
+}
 
 // The step's constants: x0, v0, each spring's start direction u0, M^ = M + h k_drag and the
 // fields' other forces f0 = m a - (-k v0) at the start.
@@ -53,12 +119,13 @@ void ImplicitEuler::start(const ImplicitEulerInput& in, double h, std::span<cons
     if (in.pinned[i]) pinnedList_.push_back(std::uint32_t(i));
   u0_.resize(in.springs.size());
   blocks_.resize(in.springs.size());
-  for (std::size_t k = 0; k < in.springs.size(); ++k) {
+  connect();
+  forSprings([&](std::size_t k) {
     const Spring& s = in.springs[k];
     const Eigen::Vector3d d = seg(x0_, s.a) - seg(x0_, s.b);
     const double l = d.norm();
     u0_[k] = l > 0 ? Eigen::Vector3d(d / l) : Eigen::Vector3d::Zero();
-  }
+  });
 }
 
 // G = M^ (v - v0) - h f0 - h F~(x0 + h v) + h sum c u0 u0^T v_ab, pinned components zeroed.
@@ -66,15 +133,20 @@ const Eigen::VectorXd& ImplicitEuler::gradient(const Eigen::VectorXd& v) {
   const double h = h_;
   x_ = x0_ + h * v;
   g_ = massDiagonal_.cwiseProduct(v - v0_) - h * f0_;
-  for (std::size_t k = 0; k < in_->springs.size(); ++k) {
-    if (in_->broken[k]) continue;
+  // -h f at a, +h f at b, f the spring's force on a.
+  forSprings([&](std::size_t k) {
+    if (in_->broken[k]) {
+      terms_[k] = {0, 0, 0};
+      return;
+    }
     const Spring& s = in_->springs[k];
     const Eigen::Vector3d& u0 = u0_[k];
     const Eigen::Vector3d f = surrogate(s, u0).force(seg(x_, s.a) - seg(x_, s.b)) -
                               double(s.damping) * u0 * u0.dot(seg(v, s.a) - seg(v, s.b));
-    g_.segment<3>(3 * Eigen::Index(s.a)) -= h * f;
-    g_.segment<3>(3 * Eigen::Index(s.b)) += h * f;
-  }
+    const Eigen::Vector3d t = -(h * f);
+    terms_[k] = {t[0], t[1], t[2]};
+  });
+  gatherTerms(g_.data());
   for (const AttachmentTerm& a : in_->attachments)
     g_.segment<3>(3 * Eigen::Index(a.vertex)) +=
         h * (a.k * (seg(x_, a.vertex) - a.target) + a.c * (seg(v, a.vertex) - a.velocity));
@@ -100,58 +172,85 @@ void ImplicitEuler::assemble(const Eigen::VectorXd& v) {
     const double* d = diagonal_.data() + 3 * i;
     inverseBlocks_[i] = {d[0], d[1], d[2], 0, 0, 0};
   }
-  for (std::size_t k = 0; k < in_->springs.size(); ++k) {
-    if (in_->broken[k]) continue;
+  forSprings([&](std::size_t k) {
+    if (in_->broken[k]) {
+      blocks_[k] = {};
+      return;
+    }
     const Spring& s = in_->springs[k];
     const Eigen::Vector3d& u0 = u0_[k];
     const Eigen::Matrix3d b = h * h * surrogate(s, u0).stiffness(seg(x_, s.a) - seg(x_, s.b)) +
                               h * double(s.damping) * u0 * u0.transpose();
     blocks_[k] = {b(0, 0), b(1, 1), b(2, 2), b(0, 1), b(0, 2), b(1, 2)};
-    for (std::uint32_t e : {s.a, s.b})
-      for (int c = 0; c < 6; ++c) inverseBlocks_[e][std::size_t(c)] += blocks_[k][std::size_t(c)];
-  }
-  for (SymmetricBlock& d : inverseBlocks_) {
+  });
+  forVertices([&](std::size_t i) {
+    SymmetricBlock& d = inverseBlocks_[i];
+    for (std::uint32_t e = firstIncident_[i]; e < firstIncident_[i + 1]; ++e)
+      for (std::size_t c = 0; c < 6; ++c) d[c] += blocks_[incident_[e].spring][c];
     Eigen::Matrix3d m;
     m << d[0], d[3], d[4], d[3], d[1], d[5], d[4], d[5], d[2];
     const Eigen::Matrix3d inverse = m.inverse();
     d = {inverse(0, 0), inverse(1, 1), inverse(2, 2), inverse(0, 1), inverse(0, 2), inverse(1, 2)};
-  }
+  });
 }
 
 // out = P^-1 r, P the Hessian's 3 x 3 diagonal blocks.
 void ImplicitEuler::precondition(const Eigen::VectorXd& r, Eigen::VectorXd& out) const {
   out.resize(r.size());
-  for (std::size_t i = 0; i < inverseBlocks_.size(); ++i) {
+  forVertices([&](std::size_t i) {
     const SymmetricBlock& b = inverseBlocks_[i];
     const double* ri = r.data() + 3 * i;
     double* oi = out.data() + 3 * i;
     oi[0] = b[0] * ri[0] + b[3] * ri[1] + b[4] * ri[2];
     oi[1] = b[3] * ri[0] + b[1] * ri[1] + b[5] * ri[2];
     oi[2] = b[4] * ri[0] + b[5] * ri[1] + b[2] * ri[2];
-  }
+  });
 }
 
 // The product the conjugate gradients spend their time in: one pass over the springs, each
 // block applied to w_a - w_b and added at a, subtracted at b.
+// H w. In sequence, a scatter over the springs: y = B (w_a - w_b) added at a, subtracted at b.
+// On several workers, a pass over the vertices: (H w)_i = D_i w_i + sum over i's springs of
+// B (w_i - w_j), in spring order. At end b that is B (w_b - w_a) = -(B (w_a - w_b)) exactly, and
+// x + (-y) is x - y, so both give the same bytes; the scatter does half the arithmetic.
 void ImplicitEuler::apply(const Eigen::VectorXd& w, Eigen::VectorXd& out) const {
-  out = diagonal_.cwiseProduct(w);
   const double* wp = w.data();
-  double* op = out.data();
-  for (std::size_t k = 0; k < in_->springs.size(); ++k) {
-    if (in_->broken[k]) continue;
-    const Spring& s = in_->springs[k];
-    const SymmetricBlock& b = blocks_[k];
-    const double* wa = wp + 3 * std::size_t(s.a);
-    const double* wb = wp + 3 * std::size_t(s.b);
-    const double d0 = wa[0] - wb[0], d1 = wa[1] - wb[1], d2 = wa[2] - wb[2];
-    const double y0 = b[0] * d0 + b[3] * d1 + b[4] * d2;
-    const double y1 = b[3] * d0 + b[1] * d1 + b[5] * d2;
-    const double y2 = b[4] * d0 + b[5] * d1 + b[2] * d2;
-    double* oa = op + 3 * std::size_t(s.a);
-    double* ob = op + 3 * std::size_t(s.b);
-    oa[0] += y0, oa[1] += y1, oa[2] += y2;
-    ob[0] -= y0, ob[1] -= y1, ob[2] -= y2;
+  if (!workers_ || workers_->threadCount() == 1) {
+    out = diagonal_.cwiseProduct(w);
+    double* op = out.data();
+    for (std::size_t k = 0; k < in_->springs.size(); ++k) {
+      const Spring& s = in_->springs[k];
+      const SymmetricBlock& b = blocks_[k];  // zero for a broken spring
+      const double* wa = wp + 3 * std::size_t(s.a);
+      const double* wb = wp + 3 * std::size_t(s.b);
+      const double d0 = wa[0] - wb[0], d1 = wa[1] - wb[1], d2 = wa[2] - wb[2];
+      const double y0 = b[0] * d0 + b[3] * d1 + b[4] * d2;
+      const double y1 = b[3] * d0 + b[1] * d1 + b[5] * d2;
+      const double y2 = b[4] * d0 + b[5] * d1 + b[2] * d2;
+      double* oa = op + 3 * std::size_t(s.a);
+      double* ob = op + 3 * std::size_t(s.b);
+      oa[0] += y0, oa[1] += y1, oa[2] += y2;
+      ob[0] -= y0, ob[1] -= y1, ob[2] -= y2;
+    }
+    return;
   }
+  out.resize(w.size());
+  forVertices([&](std::size_t i) {
+    const double* wi = wp + 3 * i;
+    const double* d = diagonal_.data() + 3 * i;
+    double o0 = d[0] * wi[0], o1 = d[1] * wi[1], o2 = d[2] * wi[2];
+    for (std::uint32_t e = firstIncident_[i]; e < firstIncident_[i + 1]; ++e) {
+      const Incidence& c = incident_[e];
+      const SymmetricBlock& b = blocks_[c.spring];  // zero for a broken spring
+      const double* wj = wp + 3 * std::size_t(c.other);
+      const double d0 = wi[0] - wj[0], d1 = wi[1] - wj[1], d2 = wi[2] - wj[2];
+      o0 += b[0] * d0 + b[3] * d1 + b[4] * d2;
+      o1 += b[3] * d0 + b[1] * d1 + b[5] * d2;
+      o2 += b[4] * d0 + b[5] * d1 + b[2] * d2;
+    }
+    double* o = out.data() + 3 * i;
+    o[0] = o0, o[1] = o1, o[2] = o2;
+  });
 }
 
 void ImplicitEuler::filterPinned(Eigen::VectorXd& w) const {
@@ -176,14 +275,22 @@ double ImplicitEuler::psiChange(const Eigen::VectorXd& p, double alpha) const {
   double change = alpha * p.dot(massDiagonal_.cwiseProduct(v_ - v0_)) +
                   0.5 * alpha * alpha * p.dot(massDiagonal_.cwiseProduct(p)) -
                   alpha * h * f0_.dot(p);
-  for (std::size_t k = 0; k < in_->springs.size(); ++k) {
-    if (in_->broken[k]) continue;
-    const Spring& s = in_->springs[k];
-    const Eigen::Vector3d pab = seg(p, s.a) - seg(p, s.b);
-    const double w = u0_[k].dot(seg(v_, s.a) - seg(v_, s.b)), q = u0_[k].dot(pab);
-    change += 0.5 * h * double(s.damping) * alpha * q * (2 * w + alpha * q);
-    change += surrogate(s, u0_[k]).energyChange(seg(x_, s.a) - seg(x_, s.b), alpha * h * pab);
-  }
+  const std::size_t springs = in_->springs.size();
+  parallelItems(workers_, partials_.size(), 1, [&](std::size_t chunk) {
+    {
+      double sum = 0;
+      for (std::size_t k = chunk * kChunk; k < std::min(springs, (chunk + 1) * kChunk); ++k) {
+        if (in_->broken[k]) continue;
+        const Spring& s = in_->springs[k];
+        const Eigen::Vector3d pab = seg(p, s.a) - seg(p, s.b);
+        const double w = u0_[k].dot(seg(v_, s.a) - seg(v_, s.b)), q = u0_[k].dot(pab);
+        sum += 0.5 * h * double(s.damping) * alpha * q * (2 * w + alpha * q);
+        sum += surrogate(s, u0_[k]).energyChange(seg(x_, s.a) - seg(x_, s.b), alpha * h * pab);
+      }
+      partials_[chunk] = sum;
+    }
+  });
+  for (double partial : partials_) change += partial;
   for (const AttachmentTerm& a : in_->attachments) {
     const Eigen::Vector3d pa = seg(p, a.vertex);
     change +=
@@ -289,8 +396,20 @@ bool ImplicitEuler::releasePullingContacts() {
   return released;
 }
 
-ImplicitSolveReport ImplicitEuler::step(const ImplicitEulerInput& in, Real hr, std::span<Real> x,
+ImplicitSolveReport ImplicitEuler::step(const ImplicitEulerInput& in, Real h, std::span<Real> x,
                                         std::span<Real> v) {
+  ImplicitSolveReport report;
+  StepWorkers::run(nullptr, [&](StepWorkers& workers) { report = step(in, h, x, v, workers); });
+  return report;
+}
+
+ImplicitSolveReport ImplicitEuler::step(const ImplicitEulerInput& in, Real hr, std::span<Real> x,
+                                        std::span<Real> v, StepWorkers& workers) {
+  workers_ = &workers;
+  struct Release {
+    StepWorkers*& workers;
+    ~Release() { workers = nullptr; }
+  } release{workers_};
   const Eigen::Index n3 = Eigen::Index(x.size());
   start(in, double(hr), x, v);
   held_.assign(in.contacts.size(), 1);

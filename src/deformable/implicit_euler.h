@@ -21,6 +21,12 @@
 // E kinetic plus spring plus gravity energy, G the gradient of Psi left by the inexact solve
 // (reported as the energy slack). The damping force keeps the start's direction u0 too, as in
 // Baraff and Witkin. Assembled and solved in double whatever Real is.
+//
+// Threads: the passes over springs and vertices (the Hessian's product, its assembly, the
+// gradient, Psi's change) run on the step's workers. A pass over springs writes one term per
+// spring; a pass over vertices then sums each vertex's terms in spring order (the order the
+// serial scatter used), and Psi's change is summed in fixed chunks of springs: the result is
+// the same bytes whatever the number of workers.
 #pragma once
 
 #include <Eigen/Core>
@@ -30,6 +36,7 @@
 #include <vector>
 
 #include "deformable/modified_pcg.h"
+#include "dynamics/step_workers.h"
 #include "inertia/core/types.h"
 #include "inertia/deformable/deformable.h"
 #include "inertia/deformable/model.h"
@@ -78,9 +85,12 @@ struct ImplicitEulerInput {
 class ImplicitEuler {
  public:
   /// One step of h seconds; updates x and v (3 per vertex) in place unless the solve gave
-  /// non-finite values, which leaves them as they were (the report says so).
+  /// non-finite values, which leaves them as they were (the report says so). On `workers`
+  /// when given (the result is the same without).
   ImplicitSolveReport step(const ImplicitEulerInput& in, Real h, std::span<Real> x,
                            std::span<Real> v);
+  ImplicitSolveReport step(const ImplicitEulerInput& in, Real h, std::span<Real> x,
+                           std::span<Real> v, StepWorkers& workers);
 
   /// The last Newton system: out = H w, H = M^ + h^2 K~ + h C at the last iterate.
   void apply(const Eigen::VectorXd& w, Eigen::VectorXd& out) const;
@@ -105,6 +115,13 @@ class ImplicitEuler {
   using SymmetricBlock = std::array<double, 6>;
 
   void predict();
+  void connect();
+  template <class F>
+  void forSprings(F&& f) const;
+  template <class F>
+  void forVertices(F&& f) const;
+  // Adds each vertex's springs' terms_ (+ at a, - at b) to `out`, in spring order.
+  void gatherTerms(double* out) const;
 
   const ImplicitEulerInput* in_ = nullptr;
   double h_ = 0;
@@ -113,6 +130,20 @@ class ImplicitEuler {
   std::vector<SymmetricBlock> blocks_;   // h^2 K~ + h c u0 u0^T per spring, at the last iterate
   std::vector<SymmetricBlock> inverseBlocks_;  // per vertex: H's diagonal block, inverted
   std::vector<std::uint32_t> pinnedList_;  // the pinned vertices, for the filters
+  // Each vertex's springs in spring order, with the spring's other end and the sign of the
+  // spring's term at this end (+1 at a, -1 at b); vertex i's run is
+  // incident_[firstIncident_[i] .. firstIncident_[i + 1]).
+  struct Incidence {
+    std::uint32_t spring, other;
+    double sign;
+  };
+  std::vector<std::uint32_t> firstIncident_;
+  std::vector<Incidence> incident_;
+  // Scratch of the passes: one vector per spring (written by a pass over springs, summed by
+  // gatherTerms), and Psi's change per chunk of springs.
+  mutable std::vector<std::array<double, 3>> terms_;
+  mutable std::vector<double> partials_;
+  StepWorkers* workers_ = nullptr;  // during a step; in sequence otherwise
   // State carried from step to step (copied with the deformable): the last step's velocity
   // change, Newton's second starting guess (implicit_euler.cpp, predict).
   Eigen::VectorXd previousChange_;

@@ -48,7 +48,7 @@ void Deformable::integrateExplicit(Real h) {
   ode::step(settings_.integrator, accel, Real(time_), h, x_, v_, w.workspace);
 }
 
-void Deformable::integrateImplicit(Real h) {
+void Deformable::integrateImplicit(Real h, detail::StepWorkers& workers) {
   Scratch& w = *scratch_;
   const std::size_t n = vertexCount(), n3 = x_.size();
   w.fieldAcceleration.assign(n3, Real(0));
@@ -76,7 +76,7 @@ void Deformable::integrateImplicit(Real h) {
                                          .tolerance = settings_.solverTolerance,
                                          .maxIterations = settings_.solverMaxIterations,
                                          .maxNewtonIterations = settings_.newtonMaxIterations};
-  lastSolve_ = w.implicit.step(input, h, x_, v_);
+  lastSolve_ = w.implicit.step(input, h, x_, v_, workers);
 }
 
 }  // namespace inertia

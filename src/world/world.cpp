@@ -72,7 +72,7 @@ void World::step(Real dt) {
       ps.step(dt, workers);
     }
     phases_.particles += std::chrono::duration<double>(Clock::now() - t0).count();
-    stepDeformables(dt, obstaclesGathered);
+    stepDeformables(dt, obstaclesGathered, workers);
   });
   time_ += double(dt);
   ++steps_;
@@ -158,7 +158,7 @@ std::vector<ParticleSystemId> World::particleSystems() const {
 // step: the bodies are their moving obstacles and attachment points for the step, and what the
 // deformable gave them back (contact and attachment impulses) changes their velocities for the
 // next one (explicit coupling, momentum conserving).
-void World::stepDeformables(Real dt, bool& obstaclesGathered) {
+void World::stepDeformables(Real dt, bool& obstaclesGathered, detail::StepWorkers& workers) {
   const auto t0 = std::chrono::steady_clock::now();
   for (DeformableSlot& slot : deformableSlots_) {
     if (!slot.deformable) continue;
@@ -169,7 +169,7 @@ void World::stepDeformables(Real dt, bool& obstaclesGathered) {
       d.setMovingObstacles(bodyObstacles_);
     }
     moveAttachments(d, dt);
-    d.step(dt);
+    d.step(dt, workers);
     if (pushBodies(d)) obstaclesGathered = false;  // velocities changed: gather again
   }
   // Deformables with self-collision also collide with each other, over the step just taken.

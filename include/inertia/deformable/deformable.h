@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "inertia/core/id.h"
+#include "inertia/core/thread_pool.h"
 #include "inertia/core/types.h"
 #include "inertia/deformable/model.h"
 #include "inertia/ode/implicit.h"
@@ -18,6 +19,11 @@
 #include "inertia/particles/particle_system.h"
 
 namespace inertia {
+
+namespace detail {
+class StepWorkers;
+}
+
 
 /// Settings of a deformable (designated initialisers).
 struct DeformableSettings {
@@ -177,8 +183,12 @@ class Deformable {
   /// Advances by h seconds: integrate (explicit or implicit), collide with the obstacles
   /// (swept, then pushed out to `thickness`), break springs past the strain limit. Throws
   /// InvalidArgument when h is not finite and > 0. Never produces NaN from valid input: an
-  /// implicit solve that fails to give finite values leaves the velocities as they were.
-  void step(Real h);
+  /// implicit solve that fails to give finite values leaves the velocities as they were. The
+  /// implicit solve runs on the threads of `pool` (in sequence when null); the result is the
+  /// same bytes.
+  void step(Real h, ThreadPool* pool = nullptr);
+  /// The same on the workers of a step already under way (a World's). Internal.
+  void step(Real h, detail::StepWorkers& workers);
 
   /// The collision stage of self-collision run over several deformables' last steps at once
   /// (each stepped by h from where its own step started): their vertices and triangles collide
@@ -202,7 +212,7 @@ class Deformable {
   struct Scratch;  // src/deformable/scratch.h
   // The stages of step(), each in its own file of src/deformable/.
   void integrateExplicit(Real h);  // integration.cpp
-  void integrateImplicit(Real h);  // integration.cpp
+  void integrateImplicit(Real h, detail::StepWorkers& workers);  // integration.cpp
   void holdBodyContacts(Real h);   // obstacle_collision.cpp
   void pushHeldContacts();         // obstacle_collision.cpp
   void moveAttachments(Real h);    // attachments.cpp

@@ -219,7 +219,7 @@ class World {
     std::unique_ptr<Deformable> deformable;  // null when the slot is free
     std::uint32_t generation = 1;
   };
-  void stepDeformables(Real dt, bool& obstaclesGathered);
+  void stepDeformables(Real dt, bool& obstaclesGathered, detail::StepWorkers& workers);
   struct ArticulationSlot {
     std::unique_ptr<articulation::Articulation<Real>> articulation;  // null when free
     std::unique_ptr<articulation::LinkResponse> response;
