@@ -207,12 +207,11 @@ void ImplicitEuler::precondition(const Eigen::VectorXd& r, Eigen::VectorXd& out)
   });
 }
 
-// The product the conjugate gradients spend their time in: one pass over the springs, each
-// block applied to w_a - w_b and added at a, subtracted at b.
-// H w. In sequence, a scatter over the springs: y = B (w_a - w_b) added at a, subtracted at b.
-// On several workers, a pass over the vertices: (H w)_i = D_i w_i + sum over i's springs of
-// B (w_i - w_j), in spring order. At end b that is B (w_b - w_a) = -(B (w_a - w_b)) exactly, and
-// x + (-y) is x - y, so both give the same bytes; the scatter does half the arithmetic.
+// H w, the product the conjugate gradients spend their time in. In sequence, a scatter over the
+// springs: y = B (w_a - w_b) added at a, subtracted at b. On several workers, a pass over the
+// vertices: each adds sign * y for its springs in spring order, y formed as the scatter forms it
+// (from w_a - w_b) and sign -1 at b; x + (-1 y) is x - y, zeros' signs included, so both give
+// the same bytes. The scatter forms each y once, the pass over the vertices twice.
 void ImplicitEuler::apply(const Eigen::VectorXd& w, Eigen::VectorXd& out) const {
   const double* wp = w.data();
   if (!workers_ || workers_->threadCount() == 1) {
@@ -243,10 +242,12 @@ void ImplicitEuler::apply(const Eigen::VectorXd& w, Eigen::VectorXd& out) const 
       const Incidence& c = incident_[e];
       const SymmetricBlock& b = blocks_[c.spring];  // zero for a broken spring
       const double* wj = wp + 3 * std::size_t(c.other);
-      const double d0 = wi[0] - wj[0], d1 = wi[1] - wj[1], d2 = wi[2] - wj[2];
-      o0 += b[0] * d0 + b[3] * d1 + b[4] * d2;
-      o1 += b[3] * d0 + b[1] * d1 + b[5] * d2;
-      o2 += b[4] * d0 + b[5] * d1 + b[2] * d2;
+      const double* wa = c.sign > 0 ? wi : wj;
+      const double* wb = c.sign > 0 ? wj : wi;
+      const double d0 = wa[0] - wb[0], d1 = wa[1] - wb[1], d2 = wa[2] - wb[2];
+      o0 += c.sign * (b[0] * d0 + b[3] * d1 + b[4] * d2);
+      o1 += c.sign * (b[3] * d0 + b[1] * d1 + b[5] * d2);
+      o2 += c.sign * (b[4] * d0 + b[5] * d1 + b[2] * d2);
     }
     double* o = out.data() + 3 * i;
     o[0] = o0, o[1] = o1, o[2] = o2;

@@ -23,10 +23,11 @@
 // Baraff and Witkin. Assembled and solved in double whatever Real is.
 //
 // Threads: the passes over springs and vertices (the Hessian's product, its assembly, the
-// gradient, Psi's change) run on the step's workers. A pass over springs writes one term per
-// spring; a pass over vertices then sums each vertex's terms in spring order (the order the
-// serial scatter used), and Psi's change is summed in fixed chunks of springs: the result is
-// the same bytes whatever the number of workers.
+// gradient, Psi's change) run on the step's workers. Each vertex sums its springs' terms in
+// spring order, the order a serial scatter over the springs adds them (the gradient and the
+// assembly write one term per spring first; the product forms each spring's term at both of
+// its ends), and Psi's change is summed in fixed chunks of springs: the result is the same
+// bytes whatever the number of workers.
 #pragma once
 
 #include <Eigen/Core>
@@ -72,8 +73,8 @@ struct ImplicitEulerInput {
   /// Per vertex, the linear drag coefficient k (kg/s) of the fields (F = -k v), taken
   /// implicitly so that strong drag is stable too.
   std::span<const Real> fieldDamping;
-  /// Newton stops when |G| <= tolerance * (|M^ v0| + h |f0| + |G(v0)|); each Newton step's
-  /// PCG stops at a relative residual between tolerance and 0.1 (inexact Newton).
+  /// Newton stops when |G| <= tolerance * (|filter(M^ v0 + h f0)| + |G(v0)|); each Newton
+  /// step's PCG stops at a relative residual between tolerance and 0.1 (inexact Newton).
   std::span<const AttachmentTerm> attachments = {};
   /// In and out: contacts are released (impulse 0, left out of the filter) when they would pull.
   std::span<ContactConstraint> contacts = {};

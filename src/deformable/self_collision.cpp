@@ -112,12 +112,13 @@ struct DeformableCollisionCache::Impl {
   Stage stage;
   std::vector<Vec3> before;
   std::vector<std::uint32_t> offsets;
-  // The features' swept boxes (exact, this pass) and their proxies in trees fat by the
-  // thickness; rebuilt when the features or the thickness change.
+  // The features' swept boxes (exact, this pass, inflated by half the thickness) and their
+  // proxies in trees whose fat boxes add a quarter of it; rebuilt when the features or the
+  // thickness change.
   DynamicTree triangleTree, edgeTree;
   std::vector<int> triangleProxies, edgeProxies;
   std::vector<Aabb> triangleBoxes, edgeBoxes;
-  Real margin = -1;
+  Real thickness = -1;  // the trees were built for
   Candidates candidates;
   // The impact zones' union-find and sums.
   detail::UnionFind zones;
@@ -131,6 +132,7 @@ DeformableCollisionCache::~DeformableCollisionCache() = default;
 DeformableCollisionCache::DeformableCollisionCache(const DeformableCollisionCache&)
     : impl_(std::make_unique<Impl>()) {}
 DeformableCollisionCache& DeformableCollisionCache::operator=(const DeformableCollisionCache&) {
+  impl_ = std::make_unique<Impl>();
   return *this;
 }
 DeformableCollisionCache::DeformableCollisionCache(DeformableCollisionCache&&) noexcept = default;
@@ -141,8 +143,10 @@ namespace {
 
 using Cache = DeformableCollisionCache::Impl;
 
-// Every feature's swept box; a box that left its fat box is moved in its tree (all are inserted
-// afresh when the features or the thickness changed).
+// Every feature's swept box; a box that left its fat box is moved in its tree, and one whose
+// fat box has grown far larger than it (a fast step's sweep, now at rest) is inserted afresh, so
+// that fat boxes shrink again (all are inserted afresh when the features or the thickness
+// changed).
 template <class Feature>
 void updateTree(const Stage& s, std::span<const Feature> features, bool rebuild, DynamicTree& tree,
                 std::vector<int>& proxies, std::vector<Aabb>& boxes) {
@@ -150,22 +154,27 @@ void updateTree(const Stage& s, std::span<const Feature> features, bool rebuild,
   if (rebuild) proxies.clear();
   for (std::size_t k = 0; k < features.size(); ++k) {
     boxes[k] = s.swept(features[k], s.thickness / 2);
-    if (rebuild)
+    if (rebuild) {
       proxies.push_back(tree.createProxy(boxes[k], std::uint32_t(k)));
-    else
+    } else if (!boxes[k].inflated(s.thickness).contains(tree.fatAabb(proxies[k]))) {
+      tree.destroyProxy(proxies[k]);
+      proxies[k] = tree.createProxy(boxes[k], std::uint32_t(k));
+    } else {
       tree.moveProxy(proxies[k], boxes[k], Vec3::Zero());
+    }
   }
 }
 
 void updateTrees(Cache& c, bool withEdges) {
   const Stage& s = c.stage;
-  const bool rebuild = c.margin != s.thickness || c.triangleProxies.size() != s.triangles.size() ||
+  const bool rebuild = c.thickness != s.thickness ||
+                       c.triangleProxies.size() != s.triangles.size() ||
                        c.edgeProxies.size() != s.edges.size();
   if (rebuild) {
     const DynamicTreeSettings fat{.margin = s.thickness / 4, .displacementMultiplier = 0};
     c.triangleTree = DynamicTree(fat);
     c.edgeTree = DynamicTree(fat);
-    c.margin = s.thickness;
+    c.thickness = s.thickness;
   }
   updateTree<std::array<std::uint32_t, 3>>(s, s.triangles, rebuild, c.triangleTree,
                                            c.triangleProxies, c.triangleBoxes);
@@ -303,6 +312,7 @@ void impactZones(Cache& cache) {
 void Deformable::collideDeformables(std::span<Deformable* const> deformables, Real h,
                                     DeformableCollisionCache& collisionCache) {
   if (deformables.empty()) return;
+  if (!collisionCache.impl_) collisionCache.impl_ = std::make_unique<Cache>();  // moved from
   Cache& cache = *collisionCache.impl_;
   Stage& s = cache.stage;
   s.h = h;

@@ -51,6 +51,19 @@ MassSpringModel readRope(const Node& n, Real mass, const SpringStiffness& k, Rea
   return checked(n, [&] { return rope(s); });
 }
 
+// Hair on a head: strands rooted over the cap of a sphere about "position" (hair()).
+MassSpringModel readHair(const Node& n, Real mass, const SpringStiffness& k, Real c) {
+  requireDeformableKeys(n, {"position", "orientation", "radius", "cap_angle", "strands",
+                            "segments", "length"});
+  HairSettings s{.pose = readPose(n), .mass = mass, .stiffness = k, .damping = c};
+  if (n.has("radius")) s.radius = Real(n.at("radius").number(0, 1e4, true));
+  if (n.has("cap_angle")) s.capAngle = Real(n.at("cap_angle").number(0, 3.14159265358979, true));
+  if (n.has("strands")) s.strands = readCount(n.at("strands"), 1000000);
+  if (n.has("segments")) s.segments = readCount(n.at("segments"), 10000);
+  if (n.has("length")) s.length = Real(n.at("length").number(0, 1e4, true));
+  return checked(n, [&] { return hair(s); });
+}
+
 MassSpringModel readCloth(const Node& n, Real mass, const SpringStiffness& k, Real c) {
   requireDeformableKeys(n, {"position", "orientation", "size", "resolution"});
   ClothSettings s{.pose = readPose(n), .mass = mass, .stiffness = k, .damping = c};
@@ -67,8 +80,10 @@ MassSpringModel readCloth(const Node& n, Real mass, const SpringStiffness& k, Re
   return checked(n, [&] { return cloth(s); });
 }
 
-// "shape": {"type": "box", "half_extents": [...]} or {"type": "sphere", "radius": r}; the
-// resolution is [nx, ny, nz] cells for a box, the subdivision level for a sphere.
+// "shape": {"type": "box", "half_extents": [...]}, {"type": "sphere", "radius": r} or a closed
+// {"type": "mesh", "obj": FILE} (or its "vertices" and "triangles", as a body's mesh shape);
+// the resolution is [nx, ny, nz] cells for a box, the subdivision level for a sphere, the
+// interior lattice's cells along the longest side for a mesh.
 MassSpringModel readSoftBody(const Node& n, Real mass, const SpringStiffness& k, Real c) {
   requireDeformableKeys(n, {"position", "orientation", "shape", "resolution"});
   Node shape = n.at("shape");
@@ -98,7 +113,18 @@ MassSpringModel readSoftBody(const Node& n, Real mass, const SpringStiffness& k,
     if (n.has("resolution")) s.subdivisions = int(n.at("resolution").integer(0, 5));
     return checked(n, [&] { return softSphere(s); });
   }
-  shape.at("type").fail("unknown soft body shape \"" + type + "\"; expected box or sphere");
+  if (type == "mesh") {
+    Transform meshPose;
+    const Shape read = readShape(shape, meshPose);
+    SoftMeshSettings s{.pose = pose * meshPose,
+                       .mesh = read.getIf<TriangleMesh>(),
+                       .mass = mass,
+                       .stiffness = k,
+                       .damping = c};
+    if (n.has("resolution")) s.resolution = int(n.at("resolution").integer(1, 64));
+    return checked(shape, [&] { return softMesh(s); });
+  }
+  shape.at("type").fail("unknown soft body shape \"" + type + "\"; expected box, sphere or mesh");
 }
 
 std::uint32_t readVertex(const Node& n, std::size_t vertices) {
@@ -193,6 +219,8 @@ DeformableDesc readDeformable(const Node& n, std::size_t index,
   const SpringStiffness k = readStiffness(n);
   if (type == "rope")
     d.model = readRope(n, mass, k, damping);
+  else if (type == "hair")
+    d.model = readHair(n, mass, k, damping);
   else if (type == "cloth")
     d.model = readCloth(n, mass, k, damping);
   else if (type == "soft_body")
@@ -201,7 +229,7 @@ DeformableDesc readDeformable(const Node& n, std::size_t index,
     d.model = readMesh(n, mass, k, damping);
   else
     n.at("type").fail("unknown deformable type \"" + type +
-                      "\"; expected rope, cloth, soft_body or mesh");
+                      "\"; expected rope, hair, cloth, soft_body or mesh");
   readSettings(n, d.settings);
   if (n.has("pinned")) {
     Node list = n.at("pinned");

@@ -52,7 +52,8 @@ void World::step(Real dt) {
   // body does.
   for (ParticleSlot& slot : particleSlots_)
     if (slot.system) followBodies(*slot.system);
-  // One set of workers for the whole step: the rigid bodies' stages, then the particles'.
+  // One set of workers for the whole step: the rigid bodies' stages, then the particles', then
+  // the deformables' implicit solves.
   detail::StepWorkers::run(&threads_->impl().arena, [&](detail::StepWorkers& workers) {
     // Articulations step inside the bodies' substeps (their links are driven bodies); their
     // link bodies follow them after.

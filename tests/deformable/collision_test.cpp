@@ -62,6 +62,39 @@ TEST(DeformableCollision, DroppedClothKeepsItsThicknessFromEveryShape) {
   }
 }
 
+// Hair on a head (a sphere obstacle of the roots' radius), implicit at 1/60 s for 1.5 s: the
+// strands fall over the head and hang, and after every step every vertex but the pinned roots
+// is at least the thickness from the head.
+TEST(DeformableCollision, HairFallsOverTheHeadAndKeepsItsThickness) {
+  const Real radius = Real(0.1), thickness = Real(0.005);
+  const int segments = 8;
+  const MassSpringModel m = hair({.radius = radius,
+                                  .capAngle = Real(1.3),
+                                  .strands = 60,
+                                  .segments = segments,
+                                  .length = Real(0.2),
+                                  .mass = Real(0.01),
+                                  .stiffness = {.stretch = 500, .bend = Real(0.2)},
+                                  .damping = Real(0.001)});
+  Deformable d({.thickness = thickness, .friction = Real(0.2)}, m);
+  d.addField({GravityField{}});
+  const Obstacle head{Collider(Sphere{radius}), Transform{}};
+  d.addObstacle(head);
+  for (int s = 0; s < 90; ++s) {
+    d.step(Real(1) / 60);
+    ASSERT_TRUE(d.lastSolve().converged) << "step " << s;
+    for (std::size_t i = 0; i < d.vertexCount(); ++i) {
+      if (i % std::size_t(segments + 1) == 0) continue;  // a root, pinned on the scalp
+      ASSERT_GE(queryPoint(head.collider, head.pose, d.position(i)).distance, thickness - kSlack)
+          << "step " << s << " vertex " << i;
+    }
+  }
+  // Every tip has fallen below its root's height plus a tenth of the length: nothing stands.
+  for (std::size_t root : m.pinned)
+    EXPECT_LT(d.position(root + std::size_t(segments)).y(), m.positions[root].y() + Real(0.02))
+        << "strand from vertex " << root;
+}
+
 // A single vertex at 200 m/s towards a 2 cm thick wall, 3.3 m per step: swept, it stops at the
 // wall instead of passing through.
 TEST(DeformableCollision, FastVertexIsSweptAndDoesNotTunnel) {

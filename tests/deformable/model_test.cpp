@@ -2,7 +2,11 @@
 // surfaces facing out; validation of bad models.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <set>
+#include <string>
+#include <vector>
 
 #include "inertia/core/error.h"
 #include "inertia/deformable/deformable.h"
@@ -35,6 +39,134 @@ TEST(DeformableGenerators, RopeHasNeighbourAndSkipOneSprings) {
   EXPECT_EQ(count(m, SpringKind::Bend), 7u);
   EXPECT_FLOAT_EQ(m.positions[8].x(), 2);
   expectAtRest(m, 3);
+}
+
+// Hair: strands of rope()'s springs, roots pinned on the sphere within the cap, tips at the
+// length along the normal. The Fibonacci roots are spread evenly: every nearest neighbour is
+// farther than half the mean spacing sqrt(cap area / strands) (a spiral's nearest neighbours
+// are about 0.9 of it; roots bunched at the pole or on one meridian would fail).
+TEST(DeformableGenerators, HairStrandsRootedEvenlyOnTheCap) {
+  const Real radius = Real(0.1), length = Real(0.3), cap = Real(1.2);
+  const int strands = 200, segments = 6;
+  const Vec3 centre(1, 2, 3);
+  const MassSpringModel m = hair({.pose = {centre, Quat::Identity()},
+                                  .radius = radius,
+                                  .capAngle = cap,
+                                  .strands = strands,
+                                  .segments = segments,
+                                  .length = length,
+                                  .mass = Real(0.05)});
+  EXPECT_EQ(m.vertexCount(), std::size_t(strands * (segments + 1)));
+  EXPECT_EQ(count(m, SpringKind::Stretch), std::size_t(strands * segments));
+  EXPECT_EQ(count(m, SpringKind::Bend), std::size_t(strands * (segments - 1)));
+  ASSERT_EQ(m.pinned.size(), std::size_t(strands));
+  expectAtRest(m, Real(0.05));
+  std::vector<Vec3> roots;
+  for (int k = 0; k < strands; ++k) {
+    const std::uint32_t root = std::uint32_t(k * (segments + 1));
+    EXPECT_EQ(m.pinned[std::size_t(k)], root);
+    const Vec3 normal = (m.positions[root] - centre) / radius;
+    EXPECT_NEAR(normal.norm(), 1, 1e-5);
+    EXPECT_GE(normal.y(), std::cos(cap) - Real(1e-5));
+    const Vec3 tip = m.positions[root + std::uint32_t(segments)];
+    EXPECT_NEAR((tip - centre).norm(), radius + length, 1e-5);
+    roots.push_back(m.positions[root]);
+  }
+  const double pi = std::acos(-1.0);
+  const double spacing = std::sqrt(2 * pi * double(radius * radius) * (1 - std::cos(double(cap))) /
+                                   strands);
+  for (std::size_t a = 0; a < roots.size(); ++a) {
+    double nearest = 1e9;
+    for (std::size_t b = 0; b < roots.size(); ++b)
+      if (a != b) nearest = std::min(nearest, double((roots[a] - roots[b]).norm()));
+    EXPECT_GT(nearest, 0.5 * spacing) << "root " << a;
+  }
+  EXPECT_THROW(hair({.capAngle = 4}), InvalidArgument);
+  EXPECT_THROW(hair({.strands = 0}), InvalidArgument);
+  EXPECT_THROW(hair({.length = 0}), InvalidArgument);
+}
+
+// A cube [0, side]^3 as 12 triangles, counter-clockwise seen from outside.
+TriangleMesh cubeMesh(Real side) {
+  std::vector<Vec3> v;
+  for (int k = 0; k < 8; ++k)
+    v.push_back(side * Vec3(Real((k & 1) ^ ((k >> 1) & 1)), Real((k >> 1) & 1), Real(k >> 2)));
+  return TriangleMesh(v, {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                          {3, 7, 6}, {3, 6, 2}, {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}});
+}
+
+// A cube's soft body: the 8 corners, then the 4 x 4 x 4 cell centres (all inside), softBox's
+// lattice springs among them, the surface's 18 edges and their bend springs, and 4 ties per
+// corner to the nearest centres (the corner cell's, then three of its neighbours').
+TEST(DeformableGenerators, SoftMeshFillsACubeWithItsLattice) {
+  const TriangleMesh mesh = cubeMesh(1);
+  const MassSpringModel m = softMesh({.mesh = &mesh, .resolution = 4, .ties = 4, .mass = 2});
+  ASSERT_EQ(m.vertexCount(), 8u + 64u);
+  EXPECT_EQ(m.triangles.size(), 12u);
+  expectAtRest(m, 2);
+  // The lattice alone: 3 * 4 * 4 * 3 axis, 3 * 2 * 4 * 3 * 3 face diagonals, 4 * 27 body
+  // diagonals, 3 * 4 * 4 * 2 bend; the surface: 18 edges, 18 bend; 8 * 4 ties.
+  EXPECT_EQ(count(m, SpringKind::Stretch), std::size_t(144 + 18 + 32));
+  EXPECT_EQ(count(m, SpringKind::Shear), std::size_t(216 + 108));
+  EXPECT_EQ(count(m, SpringKind::Bend), std::size_t(96 + 18));
+  for (std::size_t i = 8; i < m.vertexCount(); ++i)
+    for (int a = 0; a < 3; ++a) {
+      const Real c = m.positions[i][a] * 4 - Real(0.5);  // 0..3 at the cell centres
+      EXPECT_NEAR(c, std::round(c), 1e-5) << "vertex " << i;
+    }
+  const Spring& tie = m.springs[m.springs.size() - 32];  // corner 0's nearest: centre (1/8)^3
+  EXPECT_EQ(tie.a, 0u);
+  EXPECT_TRUE(m.positions[tie.b].isApprox(Vec3::Constant(Real(0.125))));
+}
+
+// Inside a sphere's mesh (the soft sphere's icosphere surface, radius 0.5): every lattice
+// vertex lies inside the sphere, and every cell centre well inside it (0.45, within the
+// icosphere's inscribed radius: its faces span about 9 degrees from their centres, so about
+// 0.5 cos 9 = 0.49) is a lattice vertex.
+TEST(DeformableGenerators, SoftMeshLatticeIsWhatLiesInside) {
+  const MassSpringModel ball = softSphere({.radius = Real(0.5), .subdivisions = 2});
+  std::vector<Vec3> surface(ball.positions.begin(), ball.positions.end() - 1);
+  const TriangleMesh mesh(surface, ball.triangles);
+  const int resolution = 10;
+  const MassSpringModel m = softMesh({.mesh = &mesh, .resolution = resolution});
+  // The bounds are within rounding of a cube, so the grid has `resolution` cells per axis.
+  const Vec3 cell = (mesh.bounds().upper - mesh.bounds().lower) / Real(resolution);
+  std::set<std::array<long, 3>> lattice;
+  for (std::size_t i = surface.size(); i < m.vertexCount(); ++i) {
+    EXPECT_LT(m.positions[i].norm(), Real(0.5)) << "vertex " << i;
+    const Vec3 c =
+        (m.positions[i] - mesh.bounds().lower).cwiseQuotient(cell) - Vec3::Constant(Real(0.5));
+    lattice.insert({std::lround(c.x()), std::lround(c.y()), std::lround(c.z())});
+  }
+  for (long l = 0; l < resolution; ++l)
+    for (long j = 0; j < resolution; ++j)
+      for (long i = 0; i < resolution; ++i) {
+        const Vec3 centre = mesh.bounds().lower + cell.cwiseProduct(Vec3(Real(i), Real(j), Real(l)) +
+                                                                    Vec3::Constant(Real(0.5)));
+        if (centre.norm() < Real(0.45)) {
+          EXPECT_TRUE(lattice.count({i, j, l})) << i << " " << j << " " << l;
+        }
+      }
+}
+
+TEST(DeformableGenerators, SoftMeshRefusesOpenInwardAndTooCoarseMeshes) {
+  const TriangleMesh cube = cubeMesh(1);
+  std::vector<Triangle> open = cube.triangles(), inward = cube.triangles();
+  open.pop_back();
+  for (Triangle& t : inward) std::swap(t[1], t[2]);
+  const TriangleMesh openMesh(cube.vertices(), open), inwardMesh(cube.vertices(), inward);
+  const auto message = [](const SoftMeshSettings& s) {
+    try {
+      softMesh(s);
+    } catch (const InvalidArgument& e) {
+      return std::string(e.what());
+    }
+    return std::string("(accepted)");
+  };
+  EXPECT_NE(message({.mesh = &openMesh}).find("closed"), std::string::npos);
+  EXPECT_NE(message({.mesh = &inwardMesh}).find("inwards"), std::string::npos);
+  EXPECT_NE(message({}).find("mesh must be given"), std::string::npos);
+  EXPECT_NE(message({.mesh = &cube, .resolution = 0}).find("resolution"), std::string::npos);
 }
 
 TEST(DeformableGenerators, ClothGridCountsAndLayout) {

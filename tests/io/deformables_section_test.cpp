@@ -81,6 +81,29 @@ TEST(DeformablesSection, RopeSoftBodiesAndMesh) {
   EXPECT_FLOAT_EQ(s.deformables[3].model.springs[0].restLength, 1);
 }
 
+// A unit cube as an inline mesh shape (12 faces, counter-clockwise from outside).
+constexpr const char* kCube = R"("vertices": [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
+                                             [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]],
+    "triangles": [[0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7], [0, 1, 5], [0, 5, 4],
+                  [3, 7, 6], [3, 6, 2], [0, 4, 7], [0, 7, 3], [1, 2, 6], [1, 6, 5]])";
+
+TEST(DeformablesSection, HairAndSoftBodiesFromMeshes) {
+  const Scene s = parse(R"(
+    { "type": "hair", "position": [0, 1.7, 0], "radius": 0.1, "cap_angle": 1.2, "strands": 30,
+      "segments": 5, "length": 0.2, "mass": 0.01 },
+    { "type": "soft_body", "position": [0, 1, 0], "resolution": 2,
+      "shape": { "type": "mesh", )" + std::string(kCube) + R"( } })");
+  ASSERT_EQ(s.deformables.size(), 2u);
+  const MassSpringModel& hair = s.deformables[0].model;
+  EXPECT_EQ(hair.vertexCount(), 30u * 6u);
+  EXPECT_EQ(hair.pinned.size(), 30u);
+  EXPECT_NEAR((hair.positions[0] - Vec3(0, Real(1.7), 0)).norm(), 0.1, 1e-6);
+  const MassSpringModel& cube = s.deformables[1].model;
+  EXPECT_EQ(cube.vertexCount(), 8u + 8u);  // the corners, then 2 x 2 x 2 cell centres
+  EXPECT_EQ(cube.triangles.size(), 12u);
+  EXPECT_TRUE(cube.positions[8].isApprox(Vec3(Real(0.25), Real(1.25), Real(0.25))));
+}
+
 TEST(DeformablesSection, ErrorsNameTheJsonPointer) {
   EXPECT_EQ(pointerOf(R"({"type": "cloth", "sise": [1, 1]})"), "/deformables/0/sise");
   EXPECT_EQ(pointerOf(R"({"type": "sheet"})"), "/deformables/0/type");
@@ -104,6 +127,15 @@ TEST(DeformablesSection, ErrorsNameTheJsonPointer) {
   EXPECT_EQ(pointerOf(R"({"type": "rope", "from": [0, 0, 0], "to": [0, 0, 0]})"), "/deformables/0");
   EXPECT_EQ(pointerOf(R"({"type": "soft_body", "shape": {"type": "cone"}})"),
             "/deformables/0/shape/type");
+  // A cube without its last face is not closed.
+  std::string open(kCube);
+  open.erase(open.rfind(", [1, 6, 5]"), std::string(", [1, 6, 5]").size());
+  EXPECT_EQ(pointerOf(R"({"type": "soft_body", "shape": {"type": "mesh", )" + open + "}}"),
+            "/deformables/0/shape");
+  EXPECT_EQ(pointerOf(R"({"type": "soft_body", "shape": {"type": "mesh", "obj": "none.obj"}})"),
+            "/deformables/0/shape/obj");
+  EXPECT_EQ(pointerOf(R"({"type": "hair", "strands": 0})"), "/deformables/0/strands");
+  EXPECT_EQ(pointerOf(R"({"type": "hair", "cap_angle": 4})"), "/deformables/0/cap_angle");
   EXPECT_EQ(
       pointerOf(R"({"type": "mesh", "vertices": [[0, 0, 0], [1, 0, 0]], "springs": [[0, 2]]})"),
       "/deformables/0/springs/0/1");
