@@ -2,7 +2,8 @@
 // at configure time.
 //
 // Cloth: a 1 m square of N x N cells (100 by default, the argument changes it; structural,
-// shear and bend springs of 5,000, 500 and 5 N/m, 0.5 kg, damping 0.01 N s/m) released flat
+// shear and bend springs of 5,000, 500 and 5 N/m, 0.5 kg, damping 0.01 N s/m, thickness 1 cm or
+// 0.4 of a cell if less: 4 mm at 100 cells) released flat
 // 0.6 m above a static sphere of radius 0.3 m, stepped 120 times at 1/60 s with Inertia's
 // implicit Euler (Newton on the incremental potential, modified PCG, tolerance 1e-6 and 1e-3),
 // with and without self-collision, on 1, 2 and all threads (the bytes compared). Bullet: the
@@ -51,7 +52,10 @@ namespace {
 constexpr int kSteps = 120;
 constexpr Real kDt = Real(1) / 60;
 // Cloth.
-constexpr Real kSphere = Real(0.3), kHeight = Real(0.6), kClothThickness = Real(0.01);
+constexpr Real kSphere = Real(0.3), kHeight = Real(0.6);
+// 1 cm, or less than half a cell: a thickness as wide as the cells would have self-collision
+// push apart a flat cloth's own neighbours.
+Real clothThickness(int cells) { return std::min(Real(0.01), Real(0.4) / Real(cells)); }
 constexpr Real kClothMass = Real(0.5);
 // Hair.
 constexpr int kStrands = 1000, kSegments = 32;
@@ -65,6 +69,7 @@ struct Result {
   double speed = 0;        // fastest vertex at the end (m/s)
   double newton = 0;       // Inertia: Newton iterations per step
   double iterations = 0;   // Inertia: PCG iterations per step
+  int converged = 0;       // Inertia: steps whose solve met the tolerance
 };
 
 // One scene: its model, settings, obstacle radius, and which vertices are roots (not measured).
@@ -82,7 +87,7 @@ Scene clothScene(int cells, bool selfCollision, double tolerance) {
                  .mass = kClothMass,
                  .stiffness = {.stretch = 5000, .shear = 500, .bend = 5},
                  .damping = Real(0.01)}),
-          {.thickness = kClothThickness,
+          {.thickness = clothThickness(cells),
            .friction = Real(0.3),
            .solverTolerance = tolerance,
            .selfCollision = selfCollision},
@@ -127,6 +132,7 @@ Result runInertia(const Scene& scene, ThreadPool* pool = nullptr,
     seconds += std::chrono::duration<double>(Clock::now() - t0).count();
     iterations += d.lastSolve().iterations;
     newton += d.lastSolve().newtonIterations;
+    r.converged += d.lastSolve().converged;
     for (std::size_t i = 0; i < d.vertexCount(); ++i)
       if (measured(i))
         r.penetration = std::max(r.penetration, below(d.position(i), scene.obstacle));
@@ -148,12 +154,12 @@ Result runInertia(const Scene& scene, ThreadPool* pool = nullptr,
 }
 
 #ifdef INERTIA_BENCH_BULLET
-// Bullet's soft-rigid world with a static sphere of `radius`; `make` adds the soft bodies and
-// returns, per soft body, its stretch links' count (they come first) and whether node 0 is a
-// root (not measured).
+// Bullet's soft-rigid world with a static sphere of `radius`; `make` makes the soft bodies.
+// Their stretch links are those no longer at rest than `stretchLength` (m) (diagonal and
+// bending links are longer); with `skipRoots`, node 0 of each is a root (not measured).
 Result runBullet(Real radius,
                  const std::function<std::vector<btSoftBody*>(btSoftBodyWorldInfo&)>& make,
-                 int stretchLinks, bool skipRoots) {
+                 Real stretchLength, bool skipRoots) {
   btSoftBodyRigidBodyCollisionConfiguration configuration;
   btCollisionDispatcher dispatcher(&configuration);
   btDbvtBroadphase broadphase;
@@ -183,8 +189,9 @@ Result runBullet(Real radius,
   }
   r.msPerStep = 1e3 * seconds / kSteps;
   for (btSoftBody* b : bodies) {
-    for (int k = 0; k < stretchLinks; ++k) {
+    for (int k = 0; k < b->m_links.size(); ++k) {
       const btSoftBody::Link& l = b->m_links[k];
+      if (l.m_rl > btScalar(1.01) * stretchLength) continue;
       r.strain = std::max(r.strain, double((l.m_n[0]->m_x - l.m_n[1]->m_x).length() / l.m_rl - 1));
     }
     for (int i = 0; i < b->m_nodes.size(); ++i)
@@ -196,8 +203,6 @@ Result runBullet(Real radius,
   return r;
 }
 
-// CreatePatch's links are its grid edges then its cell diagonals: the first 2 n (n + 1) are the
-// structural ones.
 Result runBulletCloth(int cells) {
   return runBullet(
       kSphere,
@@ -211,10 +216,10 @@ Result runBulletCloth(int cells) {
         cloth->m_cfg.piterations = 10;
         cloth->m_cfg.kDF = btScalar(0.3);
         cloth->setTotalMass(kClothMass);
-        cloth->getCollisionShape()->setMargin(kClothThickness);
+        cloth->getCollisionShape()->setMargin(clothThickness(cells));
         return std::vector<btSoftBody*>{cloth};
       },
-      2 * cells * (cells + 1), false);
+      Real(1) / Real(cells), false);
 }
 
 // One CreateRope per strand of hairModel(), root to tip, the root fixed (mass 0).
@@ -241,21 +246,21 @@ Result runBulletHair() {
         }
         return strands;
       },
-      kSegments, true);
+      kHairLength / kSegments, true);
 }
 #endif
 
 void header() {
   std::printf(
       "| engine | ms/step | max strain | deepest in obstacle (m) | max speed at end (m/s) | "
-      "Newton / PCG iterations per step |\n|---|---|---|---|---|---|\n");
+      "Newton / PCG iterations per step, steps converged |\n|---|---|---|---|---|---|\n");
 }
 
 void row(const std::string& name, const Result& r, bool iterations) {
   std::printf("| %s | %.2f | %.3f | %.4f | %.3f |", name.c_str(), r.msPerStep, r.strain,
               r.penetration, r.speed);
   if (iterations)
-    std::printf(" %.1f / %.0f |\n", r.newton, r.iterations);
+    std::printf(" %.1f / %.0f, %d of %d |\n", r.newton, r.iterations, r.converged, kSteps);
   else
     std::printf(" - |\n");
 }

@@ -81,8 +81,8 @@ void ImplicitEuler::connect() {
   // firstIncident_[i] is vertex i's fill cursor, which ends at i + 1's start: shift back after.
   for (std::uint32_t k = 0; k < in_->springs.size(); ++k) {
     const Spring& s = in_->springs[k];
-    incident_[firstIncident_[s.a]++] = {k, s.b, 1.0};
-    incident_[firstIncident_[s.b]++] = {k, s.a, -1.0};
+    incident_[firstIncident_[s.a]++] = {k, 1.0};
+    incident_[firstIncident_[s.b]++] = {k, -1.0};
   }
   for (std::size_t i = n; i > 0; --i) firstIncident_[i] = firstIncident_[i - 1];
   firstIncident_[0] = 0;
@@ -207,51 +207,38 @@ void ImplicitEuler::precondition(const Eigen::VectorXd& r, Eigen::VectorXd& out)
   });
 }
 
-// H w, the product the conjugate gradients spend their time in. In sequence, a scatter over the
-// springs: y = B (w_a - w_b) added at a, subtracted at b. On several workers, a pass over the
-// vertices: each adds sign * y for its springs in spring order, y formed as the scatter forms it
-// (from w_a - w_b) and sign -1 at b; x + (-1 y) is x - y, zeros' signs included, so both give
-// the same bytes. The scatter forms each y once, the pass over the vertices twice.
+// H w, the product the conjugate gradients spend their time in: y = B (w_a - w_b) per spring,
+// added at a and subtracted at b. In sequence, one scatter over the springs; on several
+// workers, a pass over the springs writing each y, then a pass over the vertices adding
+// sign * y in spring order (gatherTerms), which are the scatter's sums: x + (-1 y) is x - y,
+// zeros' signs included, so both give the same bytes.
 void ImplicitEuler::apply(const Eigen::VectorXd& w, Eigen::VectorXd& out) const {
   const double* wp = w.data();
+  const auto term = [&](std::size_t k) {
+    const Spring& s = in_->springs[k];
+    const SymmetricBlock& b = blocks_[k];  // zero for a broken spring
+    const double* wa = wp + 3 * std::size_t(s.a);
+    const double* wb = wp + 3 * std::size_t(s.b);
+    const double d0 = wa[0] - wb[0], d1 = wa[1] - wb[1], d2 = wa[2] - wb[2];
+    return std::array<double, 3>{b[0] * d0 + b[3] * d1 + b[4] * d2,
+                                 b[3] * d0 + b[1] * d1 + b[5] * d2,
+                                 b[4] * d0 + b[5] * d1 + b[2] * d2};
+  };
+  out = diagonal_.cwiseProduct(w);
   if (!workers_ || workers_->threadCount() == 1) {
-    out = diagonal_.cwiseProduct(w);
     double* op = out.data();
     for (std::size_t k = 0; k < in_->springs.size(); ++k) {
       const Spring& s = in_->springs[k];
-      const SymmetricBlock& b = blocks_[k];  // zero for a broken spring
-      const double* wa = wp + 3 * std::size_t(s.a);
-      const double* wb = wp + 3 * std::size_t(s.b);
-      const double d0 = wa[0] - wb[0], d1 = wa[1] - wb[1], d2 = wa[2] - wb[2];
-      const double y0 = b[0] * d0 + b[3] * d1 + b[4] * d2;
-      const double y1 = b[3] * d0 + b[1] * d1 + b[5] * d2;
-      const double y2 = b[4] * d0 + b[5] * d1 + b[2] * d2;
+      const std::array<double, 3> y = term(k);
       double* oa = op + 3 * std::size_t(s.a);
       double* ob = op + 3 * std::size_t(s.b);
-      oa[0] += y0, oa[1] += y1, oa[2] += y2;
-      ob[0] -= y0, ob[1] -= y1, ob[2] -= y2;
+      oa[0] += y[0], oa[1] += y[1], oa[2] += y[2];
+      ob[0] -= y[0], ob[1] -= y[1], ob[2] -= y[2];
     }
     return;
   }
-  out.resize(w.size());
-  forVertices([&](std::size_t i) {
-    const double* wi = wp + 3 * i;
-    const double* d = diagonal_.data() + 3 * i;
-    double o0 = d[0] * wi[0], o1 = d[1] * wi[1], o2 = d[2] * wi[2];
-    for (std::uint32_t e = firstIncident_[i]; e < firstIncident_[i + 1]; ++e) {
-      const Incidence& c = incident_[e];
-      const SymmetricBlock& b = blocks_[c.spring];  // zero for a broken spring
-      const double* wj = wp + 3 * std::size_t(c.other);
-      const double* wa = c.sign > 0 ? wi : wj;
-      const double* wb = c.sign > 0 ? wj : wi;
-      const double d0 = wa[0] - wb[0], d1 = wa[1] - wb[1], d2 = wa[2] - wb[2];
-      o0 += c.sign * (b[0] * d0 + b[3] * d1 + b[4] * d2);
-      o1 += c.sign * (b[3] * d0 + b[1] * d1 + b[5] * d2);
-      o2 += c.sign * (b[4] * d0 + b[5] * d1 + b[2] * d2);
-    }
-    double* o = out.data() + 3 * i;
-    o[0] = o0, o[1] = o1, o[2] = o2;
-  });
+  forSprings([&](std::size_t k) { terms_[k] = term(k); });
+  gatherTerms(out.data());
 }
 
 void ImplicitEuler::filterPinned(Eigen::VectorXd& w) const {

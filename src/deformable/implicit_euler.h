@@ -23,11 +23,10 @@
 // Baraff and Witkin. Assembled and solved in double whatever Real is.
 //
 // Threads: the passes over springs and vertices (the Hessian's product, its assembly, the
-// gradient, Psi's change) run on the step's workers. Each vertex sums its springs' terms in
-// spring order, the order a serial scatter over the springs adds them (the gradient and the
-// assembly write one term per spring first; the product forms each spring's term at both of
-// its ends), and Psi's change is summed in fixed chunks of springs: the result is the same
-// bytes whatever the number of workers.
+// gradient, Psi's change) run on the step's workers. A pass over the springs writes one term
+// per spring, then each vertex sums its springs' terms in spring order, the order a serial
+// scatter over the springs adds them, and Psi's change is summed in fixed chunks of springs:
+// the result is the same bytes whatever the number of workers.
 #pragma once
 
 #include <Eigen/Core>
@@ -131,11 +130,10 @@ class ImplicitEuler {
   std::vector<SymmetricBlock> blocks_;   // h^2 K~ + h c u0 u0^T per spring, at the last iterate
   std::vector<SymmetricBlock> inverseBlocks_;  // per vertex: H's diagonal block, inverted
   std::vector<std::uint32_t> pinnedList_;  // the pinned vertices, for the filters
-  // Each vertex's springs in spring order, with the spring's other end and the sign of the
-  // spring's term at this end (+1 at a, -1 at b); vertex i's run is
-  // incident_[firstIncident_[i] .. firstIncident_[i + 1]).
+  // Each vertex's springs in spring order, with the sign of the spring's term at this end (+1
+  // at a, -1 at b); vertex i's run is incident_[firstIncident_[i] .. firstIncident_[i + 1]).
   struct Incidence {
-    std::uint32_t spring, other;
+    std::uint32_t spring;
     double sign;
   };
   std::vector<std::uint32_t> firstIncident_;
