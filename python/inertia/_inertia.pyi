@@ -698,6 +698,15 @@ def soft_sphere(*, position: Optional[Vec3Like] = None, orientation: Optional[Qu
                 stretch: float = 5000, bend: float = 5, damping: float = 0,
                 pinned: Sequence[int] = ()) -> MassSpringModel: ...
 
+def hair(*, position: Optional[Vec3Like] = None, orientation: Optional[QuatLike] = None,
+         radius: float = 0.1, cap_angle: float = 1.2, strands: int = 100, segments: int = 16,
+         length: float = 0.2, mass: float = 0.05, stretch: float = 5000, bend: float = 5,
+         damping: float = 0) -> MassSpringModel: ...
+def soft_mesh(mesh: TriangleMesh, *, position: Optional[Vec3Like] = None,
+              orientation: Optional[QuatLike] = None, resolution: int = 6, ties: int = 4,
+              mass: float = 1, stretch: float = 5000, shear: float = 500, bend: float = 5,
+              damping: float = 0, pinned: Sequence[int] = ()) -> MassSpringModel: ...
+
 def load_scene(path: str, *, dt: Optional[float] = None,
                threads: Optional[int] = None) -> World: ...
 def parse_scene(scene: Union[str, dict[str, Any]], name: str = "<scene>", *,

@@ -39,7 +39,7 @@ void bindModel(py::module_& m) {
   py::class_<MassSpringModel>(m, "MassSpringModel",
                               "A deformable's initial state and structure (vertices, masses, "
                               "springs, triangles, pinned vertices), as the generators rope, "
-                              "cloth, soft_box and soft_sphere build it.")
+                              "cloth, soft_box, soft_sphere, hair and soft_mesh build it.")
       .def_property_readonly("vertex_count", &MassSpringModel::vertexCount)
       .def_property_readonly(
           "positions",
@@ -137,6 +137,41 @@ void bindModel(py::module_& m) {
       "A soft sphere of radius (m): an icosphere (10 * 4^s + 2 surface vertices, s = "
       "subdivisions, 0..5) and its centre, the last vertex. Stiffness per spring (N/m), damping "
       "(N s/m), mass (kg, total).");
+  m.def(
+      "hair",
+      [](py::handle position, py::handle orientation, Real radius, Real capAngle, int strands,
+         int segments, Real length, Real mass, Real stretch, Real bend, Real damping) {
+        return hair(HairSettings{toPose(position, orientation), radius, capAngle, strands,
+                                 segments, length, mass, stiffness(stretch, 0, bend), damping});
+      },
+      py::kw_only(), py::arg("position") = py::none(), py::arg("orientation") = py::none(),
+      py::arg("radius") = 0.1, py::arg("cap_angle") = 1.2, py::arg("strands") = 100,
+      py::arg("segments") = 16, py::arg("length") = 0.2, py::arg("mass") = 0.05,
+      py::arg("stretch") = 5000, py::arg("bend") = 5, py::arg("damping") = 0,
+      "Hair: strands straight strands rooted on a sphere of radius (m) about position, within "
+      "cap_angle (rad) of its +y axis, each length (m) along the normal in segments; strand s is "
+      "vertices s (segments + 1) .. s (segments + 1) + segments, its root pinned. Stiffness per "
+      "spring (N/m), damping (N s/m), mass (kg, total).");
+  m.def(
+      "soft_mesh",
+      [](const TriangleMesh& mesh, py::handle position, py::handle orientation, int resolution,
+         int ties, Real mass, Real stretch, Real shear, Real bend, Real damping,
+         const std::vector<std::int64_t>& pinned) {
+        MassSpringModel model =
+            softMesh(SoftMeshSettings{toPose(position, orientation), &mesh, resolution, ties, mass,
+                                      stiffness(stretch, shear, bend), damping});
+        pin(model, pinned);
+        return model;
+      },
+      py::arg("mesh"), py::kw_only(), py::arg("position") = py::none(),
+      py::arg("orientation") = py::none(), py::arg("resolution") = 6, py::arg("ties") = 4,
+      py::arg("mass") = 1, py::arg("stretch") = 5000, py::arg("shear") = 500,
+      py::arg("bend") = 5, py::arg("damping") = 0, py::arg("pinned") = std::vector<std::int64_t>{},
+      "A soft body from a closed TriangleMesh (faces counter-clockwise from outside): its "
+      "vertices first, with springs on the edges and across them, then an interior lattice of "
+      "resolution cells along the longest side that holds the volume, each surface vertex tied "
+      "to its ties nearest lattice vertices. Stiffness per spring (N/m), damping (N s/m), mass "
+      "(kg, total).");
 }
 
 // Writes (n, 3) rows into a deformable one vertex at a time (the library checks each value).
@@ -184,7 +219,8 @@ void bindCreation(py::class_<PyWorld>& world) {
           py::arg("integrator") = "implicit_euler", py::arg("thickness") = 0.01,
           py::arg("friction") = 0.3, py::arg("tear_strain") = 0, py::arg("solver_tolerance") = 1e-6,
           py::arg("solver_max_iterations") = 1000, py::arg("collide_with_bodies") = true,
-          "Adds a deformable built from model (inertia.rope, cloth, soft_box, soft_sphere). "
+          "Adds a deformable built from model (inertia.rope, cloth, soft_box, soft_sphere, hair, "
+          "soft_mesh). "
           "integrator: 'implicit_euler' (Baraff and Witkin) or an explicit method's name; "
           "thickness kept from obstacles (m); friction against them (Coulomb); tear_strain: a "
           "spring breaks past (l - L) / L (0: never); the implicit solve's relative tolerance "

@@ -30,6 +30,18 @@ def test_generators_build_the_documented_models():
     assert cloth.pinned == [0, 2]
     assert inertia.soft_sphere(subdivisions=1).vertex_count == 10 * 4 + 2 + 1  # and the centre
     assert inertia.soft_box(resolution=[1, 2, 3]).vertex_count == 2 * 3 * 4
+    hair = inertia.hair(strands=20, segments=4, radius=0.1, length=0.3)
+    assert hair.vertex_count == 20 * 5 and hair.pinned == list(range(0, 100, 5))
+    np.testing.assert_allclose(np.linalg.norm(hair.positions[::5], axis=1), 0.1, rtol=1e-5)
+    corners = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0),
+               (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
+    faces = [(0, 2, 1), (0, 3, 2), (4, 5, 6), (4, 6, 7), (0, 1, 5), (0, 5, 4),
+             (3, 7, 6), (3, 6, 2), (0, 4, 7), (0, 7, 3), (1, 2, 6), (1, 6, 5)]
+    soft = inertia.soft_mesh(inertia.TriangleMesh(corners, faces), resolution=2)
+    assert soft.vertex_count == 8 + 8 and soft.triangle_count == 12  # corners, then centres
+    np.testing.assert_allclose(soft.positions[8], (0.25, 0.25, 0.25), atol=1e-6)
+    with pytest.raises(ValueError, match="closed"):
+        inertia.soft_mesh(inertia.TriangleMesh(corners, faces[:-1]))
 
 
 def test_free_fall_follows_the_implicit_steps_closed_form():
