@@ -56,6 +56,10 @@ Aabb sceneBounds(const World& world) {
     const ParticlePool& pool = world.particleSystem(id).pool();
     for (std::size_t i = 0; i < pool.size(); ++i) box.extend(pool.position(i));
   }
+  for (DeformableId id : world.deformables()) {
+    const Deformable& d = world.deformable(id);
+    for (std::size_t i = 0; i < d.vertexCount(); ++i) box.extend(d.position(i));
+  }
   if (!box.isValid()) {
     if (planes.empty()) return box;
     box = Aabb::fromCenterHalfExtents(Vec3::Zero(), Vec3::Zero());

@@ -28,8 +28,9 @@ Eigen::Matrix4f viewMatrix(const CameraView& camera);
 Eigen::Matrix4f projectionMatrix(const CameraView& camera, float aspect);
 
 /// Bounds of what is worth seeing: every shape of every body and particle obstacle except
-/// planes, and the live particles. Empty when there is nothing finite. Each plane adds the point of
-/// the plane nearest the centre of the rest, so the ground stays in view.
+/// planes, the live particles and the deformables' vertices. Empty when there is nothing
+/// finite. Each plane adds the point of the plane nearest the centre of the rest, so the ground
+/// stays in view.
 Aabb sceneBounds(const World& world);
 
 /// A camera in front of (+z) and above `bounds`, looking at their centre, far enough for their

@@ -190,6 +190,9 @@ Renderer::~Renderer() {
   }
   glDeleteVertexArrays(1, &pointVao_);
   glDeleteBuffers(1, &pointVbo_);
+  glDeleteVertexArrays(1, &deformable_.vao);
+  glDeleteBuffers(1, &deformable_.vbo);
+  glDeleteBuffers(1, &deformable_.ibo);
   glDeleteProgram(meshProgram_);
   glDeleteProgram(pointProgram_);
 }
@@ -224,6 +227,52 @@ Renderer::GpuMesh& Renderer::meshFor(std::uint64_t key, const Shape& shape) {
   glBindVertexArray(0);
   g.count = GLsizei(m.indices.size());
   return g;
+}
+
+// Each deformable's mesh (deformableMesh: world coordinates) streamed into one set of buffers
+// and drawn with the mesh program, in a colour per deformable (warm hues, apart from bodies').
+void Renderer::drawDeformables(const World& world) {
+  const std::vector<DeformableId> ids = world.deformables();
+  if (ids.empty()) return;
+  if (deformable_.vao == 0) {
+    glGenVertexArrays(1, &deformable_.vao);
+    glGenBuffers(1, &deformable_.vbo);
+    glGenBuffers(1, &deformable_.ibo);
+    glBindVertexArray(deformable_.vao);
+    glBindBuffer(GL_ARRAY_BUFFER, deformable_.vbo);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, deformable_.ibo);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
+                          reinterpret_cast<void*>(3 * sizeof(float)));
+  }
+  const Eigen::Matrix4f identity = Eigen::Matrix4f::Identity();
+  const Eigen::Matrix3f normalMatrix = Eigen::Matrix3f::Identity();
+  glUniform1i(at(meshProgram_, "uGrid"), 0);
+  glUniformMatrix4fv(at(meshProgram_, "uModel"), 1, GL_FALSE, identity.data());
+  glUniformMatrix3fv(at(meshProgram_, "uNormalMatrix"), 1, GL_FALSE, normalMatrix.data());
+  glBindVertexArray(deformable_.vao);
+  for (std::size_t k = 0; k < ids.size(); ++k) {
+    const Deformable& d = world.deformable(ids[k]);
+    const MeshData m =
+        deformableMesh(d, 6, std::max(d.settings().thickness, Real(0.002)));
+    deformableData_.clear();
+    for (std::size_t i = 0; i < m.positions.size(); ++i) {
+      deformableData_.insert(deformableData_.end(), m.positions[i].data(),
+                             m.positions[i].data() + 3);
+      deformableData_.insert(deformableData_.end(), m.normals[i].data(), m.normals[i].data() + 3);
+    }
+    glBindBuffer(GL_ARRAY_BUFFER, deformable_.vbo);
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(deformableData_.size() * sizeof(float)),
+                 deformableData_.data(), GL_STREAM_DRAW);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(m.indices.size() * sizeof(std::uint32_t)),
+                 m.indices.data(), GL_STREAM_DRAW);
+    const double golden = 0.618033988749895;
+    setVec3(meshProgram_, "uColor",
+            hsv(float(std::fmod(0.95 + 0.3 * golden * double(k), 1.0)), 0.6f, 0.85f));
+    glDrawElements(GL_TRIANGLES, GLsizei(m.indices.size()), GL_UNSIGNED_INT, nullptr);
+  }
 }
 
 void Renderer::drawShape(std::uint64_t key, const Shape& shape, const Transform& pose,
@@ -301,6 +350,7 @@ void Renderer::draw(const World& world, const CameraView& camera, int width, int
       }
     }
   }
+  drawDeformables(world);
   glBindVertexArray(0);
   // Shapes that disappeared (destroyed bodies) free their buffers.
   for (auto it = meshes_.begin(); it != meshes_.end();) {

@@ -1,5 +1,6 @@
 // Draws a World with OpenGL 3.3 core: bodies' shapes shaded by a directional light (planes as a
-// large ground square with a grid), particles as point sprites. It draws into whatever
+// large ground square with a grid), particles as point sprites, deformables as shaded two-sided
+// surfaces (cloth, soft bodies) or tubes (ropes, hair). It draws into whatever
 // framebuffer is bound in the current context: an offscreen target (inertia render) or a
 // window (the interactive viewer), so it does not know how the context was made.
 #pragma once
@@ -72,6 +73,7 @@ class Renderer {
                  const Eigen::Vector3f& color);
   void drawParticles(const World& world, const Eigen::Matrix4f& view, const Eigen::Matrix4f& proj,
                      float pointScale);
+  void drawDeformables(const World& world);
 
   RenderStyle style_{};
   ShapeColors colors_{};
@@ -79,6 +81,8 @@ class Renderer {
   GLuint pointVao_ = 0, pointVbo_ = 0;
   std::vector<float> pointData_{};
   std::map<std::uint64_t, GpuMesh> meshes_{};
+  GpuMesh deformable_{};  // buffers refilled for each deformable every frame
+  std::vector<float> deformableData_{};
 };
 
 }  // namespace inertia::viewer

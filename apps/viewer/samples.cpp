@@ -416,9 +416,13 @@ std::vector<Sample> sceneFileSamples(const fs::path& dir) {
     std::string group = "Scenes";
     std::ifstream in(file);
     const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-    if (j.is_object() && j.contains("particle_systems") && j["particle_systems"].is_array() &&
-        !j["particle_systems"].empty())
+    const auto lists = [&j](const char* key) {
+      return j.is_object() && j.contains(key) && j[key].is_array() && !j[key].empty();
+    };
+    if (lists("particle_systems"))
       group = "Particles";
+    else if (lists("deformables"))
+      group = "Deformables";
     samples.push_back({group, file.stem().string(), [file] { return io::loadScene(file); }, file});
   }
   return samples;

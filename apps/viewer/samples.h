@@ -28,8 +28,8 @@ std::vector<Sample> builtinSamples();
 
 /// One sample per *.json file of `dir` (not recursive), sorted by file name, named by the file's
 /// stem. Files are not loaded here, only peeked at: one whose JSON has a non-empty
-/// "particle_systems" goes to the group "Particles", the others to "Scenes". A missing
-/// folder gives an empty list.
+/// "particle_systems" goes to the group "Particles", else one with a non-empty "deformables" to
+/// "Deformables", the others to "Scenes". A missing folder gives an empty list.
 std::vector<Sample> sceneFileSamples(const std::filesystem::path& dir);
 
 /// The scene files of `scenesDir` (when given) followed by the built-in samples.

@@ -179,6 +179,68 @@ void planeBasis(const Vec3& n, Vec3& u, Vec3& v) {
   u = v.cross(n).normalized();
 }
 
+namespace {
+
+// Each vertex's normal: the sum of its triangles' (b - a) x (c - a), which weights them by area,
+// normalised; +y where they cancel.
+MeshData deformableSurface(const Deformable& d) {
+  MeshData m;
+  const std::size_t n = d.vertexCount();
+  m.positions.resize(n);
+  m.normals.assign(n, Eigen::Vector3f::Zero());
+  for (std::size_t i = 0; i < n; ++i) m.positions[i] = d.position(i).cast<float>();
+  for (const auto& t : d.triangles()) {
+    const Eigen::Vector3f face = (m.positions[t[1]] - m.positions[t[0]])
+                                     .cross(m.positions[t[2]] - m.positions[t[0]]);
+    for (std::uint32_t v : t) m.normals[v] += face;
+    m.indices.insert(m.indices.end(), t.begin(), t.end());
+  }
+  for (Eigen::Vector3f& normal : m.normals) {
+    const float length = normal.norm();
+    normal = length > 0 ? Eigen::Vector3f(normal / length) : Eigen::Vector3f::UnitY();
+  }
+  return m;
+}
+
+// A prism of `sides` faces around each unbroken stretch spring, open at its ends (the next
+// spring's tube continues it).
+MeshData deformableTubes(const Deformable& d, int sides, Real radius) {
+  MeshData m;
+  const std::span<const Spring> springs = d.springs();
+  for (std::size_t k = 0; k < springs.size(); ++k) {
+    if (springs[k].kind != SpringKind::Stretch || d.isBroken(k)) continue;
+    const Eigen::Vector3f a = d.position(springs[k].a).cast<float>();
+    const Eigen::Vector3f b = d.position(springs[k].b).cast<float>();
+    const Eigen::Vector3f axis = b - a;
+    if (!(axis.norm() > 0)) continue;
+    Vec3 u, v;
+    planeBasis(axis.normalized().cast<Real>(), u, v);
+    const auto first = std::uint32_t(m.positions.size());
+    for (int j = 0; j < sides; ++j) {
+      const double angle = 2 * std::numbers::pi * j / sides;
+      const Eigen::Vector3f normal =
+          (std::cos(angle) * u + std::sin(angle) * v).cast<float>().normalized();
+      for (const Eigen::Vector3f& end : {a, b}) {
+        m.positions.push_back(end + float(radius) * normal);
+        m.normals.push_back(normal);
+      }
+    }
+    for (int j = 0; j < sides; ++j) {
+      const std::uint32_t a0 = first + 2 * std::uint32_t(j), b0 = a0 + 1;
+      const std::uint32_t a1 = first + 2 * std::uint32_t((j + 1) % sides), b1 = a1 + 1;
+      m.indices.insert(m.indices.end(), {a0, a1, b1, a0, b1, b0});
+    }
+  }
+  return m;
+}
+
+}  // namespace
+
+MeshData deformableMesh(const Deformable& d, int sides, Real tubeRadius) {
+  return d.triangles().empty() ? deformableTubes(d, std::max(3, sides), tubeRadius)
+                               : deformableSurface(d);
+}
+
 MeshData tessellate(const Shape& shape, const TessellationSettings& s) {
   const int seg = std::max(3, s.segments);
   switch (shape.type()) {

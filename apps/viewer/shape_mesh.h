@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "inertia/core/types.h"
+#include "inertia/deformable/deformable.h"
 #include "inertia/geometry/shapes.h"
 
 namespace inertia::viewer {
@@ -33,6 +34,12 @@ struct TessellationSettings {
 /// becomes a square of side 2 planeHalfSize centred at its point nearest the local origin;
 /// a compound is the union of its children.
 MeshData tessellate(const Shape& shape, const TessellationSettings& settings = {});
+
+/// A deformable as drawn, in world coordinates: a model with triangles (cloth, soft bodies) is
+/// its surface with smooth normals (each vertex's area-weighted face normals; the renderer
+/// shades both sides); one without (ropes, hair) is a tube of `sides` faces and radius
+/// `tubeRadius` (m) along each unbroken stretch spring.
+MeshData deformableMesh(const Deformable& deformable, int sides, Real tubeRadius);
 
 /// Two unit vectors spanning the plane orthogonal to unit `n` (for plane quads and grids).
 void planeBasis(const Vec3& n, Vec3& u, Vec3& v);

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "inertia/deformable/generators.h"
 #include "offscreen.h"
 
 namespace inertia::viewer {
@@ -170,6 +171,23 @@ TEST(RendererColors, DefaultColoursAreDeterministicAndDistinct) {
       0.1f);
   const Eigen::Vector3f s = defaultBodyColor(5, BodyType::Static);
   EXPECT_NEAR(s.x(), s.z(), 0.05f);  // grey
+}
+
+// A deformable is drawn: a cloth turned to face the camera covers the image's centre, which is
+// the background without it.
+TEST_F(RendererTest, ClothIsDrawnFacingTheCamera) {
+  World world;
+  const Eigen::Vector3f bg = renderer_.style().background * 255;
+  const auto differs = [&](const Image& image) {
+    const std::uint8_t* p = image.at(kW / 2, kH / 2);
+    return std::abs(p[0] - bg[0]) + std::abs(p[1] - bg[1]) + std::abs(p[2] - bg[2]) > 30;
+  };
+  EXPECT_FALSE(differs(draw(world, camera())));
+  const Quat upright(Eigen::AngleAxis<Real>(Real(1.5707963), Vec3::UnitX()));
+  world.createDeformable({}, cloth({.pose = {Vec3(0, 2, 0), upright},
+                                    .size = {2, 2},
+                                    .resolution = {4, 4}}));
+  EXPECT_TRUE(differs(draw(world, camera())));
 }
 
 }  // namespace

@@ -63,11 +63,17 @@ TEST(Samples, EverySceneFileIsListed) {
   EXPECT_EQ(listed, files);
 }
 
-TEST(Samples, ParticleScenesAreGroupedApart) {
+TEST(Samples, ParticleAndDeformableScenesAreGroupedApart) {
+  int deformables = 0;
   for (const Sample& s : sceneFileSamples(scenesDir())) {
     const io::Scene scene = s.build();
-    EXPECT_EQ(s.group, scene.particleSystems.empty() ? "Scenes" : "Particles") << s.name;
+    const std::string expected = !scene.particleSystems.empty() ? "Particles"
+                                 : !scene.deformables.empty()   ? "Deformables"
+                                                                : "Scenes";
+    EXPECT_EQ(s.group, expected) << s.name;
+    deformables += s.group == "Deformables";
   }
+  EXPECT_GE(deformables, 3);  // cloth_drape, soft_ball, hair
 }
 
 TEST(Samples, BuiltinsAreGroupedAndUseTheSharedBuilders) {

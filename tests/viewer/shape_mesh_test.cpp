@@ -7,6 +7,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "inertia/deformable/generators.h"
+
 namespace inertia::viewer {
 namespace {
 
@@ -136,6 +138,33 @@ TEST(ShapeMesh, CompoundPlacesItsChildren) {
   EXPECT_EQ(m.triangleCount(), 12 + sphere.triangleCount());
   EXPECT_NEAR(enclosedVolume(m), 8.0 + enclosedVolume(sphere), 1e-3);
   EXPECT_NEAR(m.positions.back().x(), 3.0f + sphere.positions.back().x(), 1e-5f);
+}
+
+// A deformable with triangles is drawn as its surface: its own vertices, smooth normals (+y for
+// a flat cloth, whose triangles wind counter-clockwise seen from +y). One without (a rope) is a
+// tube of `sides` faces around each stretch spring, every vertex at the radius from the axis.
+TEST(ShapeMesh, DeformablesAreSurfacesOrTubes) {
+  const Deformable sheet(
+      {}, cloth({.pose = {Vec3(0, 1, 0), Quat::Identity()}, .size = {1, 1}, .resolution = {3, 3}}));
+  const MeshData surface = deformableMesh(sheet, 6, Real(0.01));
+  ASSERT_EQ(surface.positions.size(), 16u);
+  EXPECT_EQ(surface.triangleCount(), 18u);
+  for (std::size_t i = 0; i < surface.positions.size(); ++i) {
+    EXPECT_TRUE(surface.positions[i].isApprox(sheet.position(i).cast<float>()));
+    EXPECT_NEAR(surface.normals[i].y(), 1.0f, 1e-6f);
+  }
+  expectConsistentWinding(surface);
+
+  const Deformable line({}, rope({.from = {0, 0, 0}, .to = {2, 0, 0}, .segments = 4}));
+  const MeshData tube = deformableMesh(line, 6, Real(0.05));
+  EXPECT_EQ(tube.positions.size(), 4u * 2u * 6u);  // 4 stretch springs (bend springs skipped)
+  EXPECT_EQ(tube.triangleCount(), 4u * 2u * 6u);
+  for (const Eigen::Vector3f& p : tube.positions) {
+    EXPECT_NEAR(std::hypot(p.y(), p.z()), 0.05f, 1e-6f);
+    EXPECT_GE(p.x(), -1e-6f);
+    EXPECT_LE(p.x(), 2.0f + 1e-6f);
+  }
+  expectConsistentWinding(tube);  // the tube's faces wind outwards
 }
 
 }  // namespace
