@@ -4,6 +4,7 @@
 // Coulomb friction (the particles' impact model with restitution 0); against a dynamic body
 // the impulse is shared by the vertex's and the body's masses and reported for the body.
 #include <algorithm>
+#include <limits>
 #include <optional>
 
 #include "deformable/scratch.h"
@@ -17,6 +18,9 @@ namespace {
 // Left between a vertex and a surface beyond the thickness, so that a vertex resting on a
 // surface is not found inside it again by rounding.
 Real skin(Real thickness) { return Real(1e-3) * thickness; }
+
+// The obstacle index of a vertex held against a static obstacle (not one of the moving ones).
+constexpr std::size_t kStaticObstacle = std::numeric_limits<std::size_t>::max();
 
 struct Contact {
   Vec3 point, normal;
@@ -100,35 +104,49 @@ Vec3 twoWayImpulse(MovingObstacle& o, Real wv, Real friction, const Vec3& x, con
 
 }  // namespace
 
-// The implicit step's contacts with dynamic bodies: each free vertex within twice the
-// thickness of a dynamic body's shape, not approaching it faster than the thickness per step
-// (resting contact), is held in the solve to the body's normal velocity there, plus what brings
-// it back out to the thickness within the step. Faster approaches are impacts, shared by the
-// vertex's and the body's masses in collide().
+// The implicit step's resting contacts (Baraff and Witkin's constrained vertices): each free
+// vertex within twice the thickness of a body's shape or a static obstacle, not approaching it
+// faster than the thickness per step, is held in the solve to the surface's normal velocity
+// there, plus what brings it back out to the thickness within the step. So the solve itself
+// carries a resting body's weight: projected out only after the solve, its bottom vertices gave
+// way in every solve, and a soft ball on the ground settled squashed (by an amount independent
+// of its stiffness, with spring energy in proportion to it). Faster approaches are impacts,
+// handled in collide() (shared by the vertex's and a dynamic body's masses); the held
+// impulses go to dynamic bodies only.
 void Deformable::holdBodyContacts(Real h) {
   auto& contacts = scratch_->contacts;
   contacts.clear();
   scratch_->contactObstacles.clear();
   const Real r = settings_.thickness;
   const std::span<const Aabb> bounds = scratch_->obstacleBounds;
+  // True when the vertex at x (velocity v) rests on the shape: then it is held, to the surface's
+  // normal velocity plus what recovers a vertex found inside the thickness.
+  const auto hold = [&](std::size_t i, const Vec3& x, const Vec3& v, const Collider& collider,
+                        const Transform& pose, const Aabb& box, const Vec3& surface,
+                        std::size_t obstacle) {
+    if (!box.inflated(2 * r).contains(x)) return false;
+    const PointQuery q = queryPoint(collider, pose, x);
+    if (!(q.distance < 2 * r)) return false;
+    if ((v - surface).dot(q.normal) < -r / h) return false;  // approaching: the swept test's
+    const Real recover = std::max(Real(0), r + skin(r) - q.distance) / h;
+    contacts.push_back({std::uint32_t(i), q.normal.cast<double>(),
+                        double(surface.dot(q.normal) + recover), 0.0});
+    scratch_->contactObstacles.push_back(obstacle);
+    return true;
+  };
   for (std::size_t i = 0; i < vertexCount(); ++i) {
     if (pinned_[i]) continue;
     const Vec3 x = Eigen::Map<const Vec3>(&x_[3 * i]);
-    for (std::size_t k = 0; k < moving_.size(); ++k) {
+    const Vec3 v = Eigen::Map<const Vec3>(&v_[3 * i]);
+    bool held = false;  // one contact per vertex: bodies first, then static obstacles
+    for (std::size_t k = 0; k < moving_.size() && !held; ++k) {
       const MovingObstacle& o = moving_[k];
-      if (!(o.inverseMass > 0) || !bounds[obstacles_.size() + k].inflated(2 * r).contains(x))
-        continue;
-      const PointQuery q = queryPoint(*o.collider, o.pose, x);
-      if (!(q.distance < 2 * r)) continue;
       const Vec3 surface = o.linearVelocity + o.angularVelocity.cross(x - o.center);
-      const Vec3 v = Eigen::Map<const Vec3>(&v_[3 * i]);
-      if ((v - surface).dot(q.normal) < -r / h) continue;
-      const Real recover = std::max(Real(0), r + skin(r) - q.distance) / h;
-      contacts.push_back({std::uint32_t(i), q.normal.cast<double>(),
-                          double(surface.dot(q.normal) + recover), 0.0});
-      scratch_->contactObstacles.push_back(k);
-      break;  // one contact per vertex
+      held = hold(i, x, v, *o.collider, o.pose, bounds[obstacles_.size() + k], surface, k);
     }
+    for (std::size_t k = 0; k < obstacles_.size() && !held; ++k)
+      held = hold(i, x, v, obstacles_[k].collider, obstacles_[k].pose, bounds[k], Vec3::Zero(),
+                  kStaticObstacle);
   }
 }
 
@@ -136,8 +154,10 @@ void Deformable::holdBodyContacts(Real h) {
 void Deformable::pushHeldContacts() {
   const auto& contacts = scratch_->contacts;
   for (std::size_t c = 0; c < contacts.size(); ++c) {
-    if (!(contacts[c].impulse > 0)) continue;
-    MovingObstacle& o = moving_[scratch_->contactObstacles[c]];
+    const std::size_t k = scratch_->contactObstacles[c];
+    if (!(contacts[c].impulse > 0) || k == kStaticObstacle || !(moving_[k].inverseMass > 0))
+      continue;
+    MovingObstacle& o = moving_[k];
     const Vec3 x = Eigen::Map<const Vec3>(&x_[3 * contacts[c].vertex]);
     const Vec3 j = -Real(contacts[c].impulse) * contacts[c].normal.cast<Real>();
     o.linearVelocity += o.inverseMass * j;
