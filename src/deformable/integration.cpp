@@ -1,6 +1,7 @@
 // The integration stage of a deformable's step: the ode layer's explicit methods on the whole
 // vertex state, or Baraff and Witkin's implicit step (implicit_euler.cpp).
 #include <algorithm>
+#include <cmath>
 #include <variant>
 
 #include "deformable/scratch.h"
@@ -45,7 +46,18 @@ void Deformable::integrateExplicit(Real h) {
       a[Eigen::Index(i)] =
           pinned_[i / 3] ? Real(0) : a[Eigen::Index(i)] + w.forces[i] / masses_[i / 3];
   };
+  w.startVelocity = v_;
   ode::step(settings_.integrator, accel, Real(time_), h, x_, v_, w.workspace);
+  // Past its stability limit (w h > 2 for symplectic Euler) an explicit method diverges: the
+  // step is undone rather than let infinities and NaN in, and reported.
+  const bool finite = std::all_of(x_.begin(), x_.end(), [](Real c) { return std::isfinite(c); }) &&
+                      std::all_of(v_.begin(), v_.end(), [](Real c) { return std::isfinite(c); });
+  lastSolve_ = ImplicitSolveReport{};
+  if (!finite) {
+    x_ = w.start;
+    v_ = w.startVelocity;
+    lastSolve_.converged = false;
+  }
 }
 
 void Deformable::integrateImplicit(Real h, detail::StepWorkers& workers) {

@@ -17,6 +17,7 @@ struct Deformable::Scratch {
   std::vector<Real> fieldAcceleration;  // m/s^2, 3 per vertex
   std::vector<Real> fieldDamping;       // kg/s per vertex (linear drag and wind)
   std::vector<Real> start;              // positions at the step's start, for swept collisions
+  std::vector<Real> startVelocity;      // velocities at the step's start (explicit methods)
   detail::ImplicitEuler implicit;
   std::vector<detail::AttachmentTerm> attachments;  // the implicit step's view of attachments_
   std::vector<detail::ContactConstraint> contacts;  // vertices held against dynamic bodies

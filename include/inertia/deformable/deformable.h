@@ -183,7 +183,9 @@ class Deformable {
   /// Advances by h seconds: integrate (explicit or implicit), collide with the obstacles
   /// (swept, then pushed out to `thickness`), break springs past the strain limit. Throws
   /// InvalidArgument when h is not finite and > 0. Never produces NaN from valid input: an
-  /// implicit solve that fails to give finite values leaves the velocities as they were. The
+  /// implicit solve that fails to give finite values leaves the velocities as they were, and an
+  /// explicit step that diverges (past the method's stability limit) is undone; lastSolve()
+  /// says so. The
   /// implicit solve runs on the threads of `pool` (in sequence when null); the result is the
   /// same bytes.
   void step(Real h, ThreadPool* pool = nullptr);
@@ -200,7 +202,8 @@ class Deformable {
 
   /// The springs that broke during the last step.
   std::span<const TearEvent> tearEvents() const { return tearEvents_; }
-  /// The last implicit step's solve.
+  /// The last step's solve: the implicit step's Newton and PCG figures; for an explicit
+  /// method, `converged` false when the step gave non-finite values and was undone.
   const ImplicitSolveReport& lastSolve() const { return lastSolve_; }
   double time() const { return time_; }
 
