@@ -33,6 +33,22 @@ void backoff(int& spins) {
   }
 }
 
+std::uint32_t epochOf(std::uint64_t word) { return std::uint32_t(word >> 32); }
+std::uint32_t unitsOf(std::uint64_t word) { return std::uint32_t(word); }
+
+// Where worker w of n starts in a stage of `units` units (Box2D v3's b2GetWorkerStartIndex):
+// the first unit of its contiguous share, or none when there are fewer units than workers.
+bool shareStart(int worker, int workers, std::uint32_t units, std::uint32_t& start) {
+  const auto w = std::uint32_t(worker), n = std::uint32_t(workers);
+  if (units <= n) {
+    start = w;
+    return w < units;
+  }
+  const std::uint32_t per = units / n, rest = units % n;
+  start = per * w + (w < rest ? w : rest);
+  return true;
+}
+
 }  // namespace
 
 void StepWorkers::start(tbb::task_arena* arena, DriverFn driver, void* ctx) {
@@ -54,86 +70,97 @@ void StepWorkers::start(tbb::task_arena* arena, DriverFn driver, void* ctx) {
     } catch (...) {
       error = std::current_exception();
     }
-    claim_.store(std::uint64_t(kExit) << 32, std::memory_order_release);
-    publish(kExit);
+    publish(std::uint64_t(kExit) << 32);
     group.wait();
     if (error) std::rethrow_exception(error);
   });
 }
 
-void StepWorkers::post(BlockFn fn, void* ctx, std::uint32_t blocks) {
-  // Close the last stage first (no block left to claim under its epoch), so that a helper
-  // which reads part of this stage's description under the old epoch claims nothing: it reads
-  // the description with acquire, which orders this store before its next look at claim_.
-  claim_.store((std::uint64_t(epoch_) << 32) | kClosed, std::memory_order_relaxed);
-  fn_.store(fn, std::memory_order_release);
-  ctx_.store(ctx, std::memory_order_release);
-  blocks_.store(blocks, std::memory_order_release);
+void StepWorkers::post(UnitFn fn, void* ctx, std::uint32_t units) {
+  // Every unit of the last stage has run (post waited for them), so no helper can claim one
+  // under the last epoch while the description changes.
+  posted_.fn.store(fn, std::memory_order_release);
+  posted_.ctx.store(ctx, std::memory_order_release);
   done_.store(0, std::memory_order_relaxed);
-  const std::uint32_t epoch = ++epoch_;
-  claim_.store(std::uint64_t(epoch) << 32, std::memory_order_release);
-  publish(epoch);
-  runBlocks(epoch);
+  const std::uint64_t word = (std::uint64_t(++epoch_) << 32) | units;
+  publish(word);
+  runUnits(word, 0);
   int spins = 0;
-  while (done_.load(std::memory_order_acquire) != blocks) backoff(spins);
-  // A block that threw on any worker: the stage is over (its blocks all counted), so the
+  while (done_.load(std::memory_order_acquire) != units) backoff(spins);
+  // A block that threw on any worker: the stage is over (its units all counted), so the
   // exception goes on from the main worker, which ends the step.
   if (failed_.exchange(false, std::memory_order_acq_rel))
     std::rethrow_exception(std::exchange(error_, nullptr));
 }
 
-// Publishes an epoch and wakes the sleeping helpers. A helper tests the epoch under the mutex
-// before it sleeps, and the epoch is stored before the mutex is taken here, so no helper can
-// sleep on an epoch already past.
-void StepWorkers::publish(std::uint32_t epoch) {
-  posted_.store(epoch, std::memory_order_release);
+// Publishes a stage and wakes the sleeping helpers. A helper counts itself in sleepers_ and
+// tests the word under the mutex before it sleeps; the word is stored before sleepers_ is read
+// here (both sequentially consistent), so either this sees the sleeper and notifies under the
+// mutex, or the sleeper sees the new word and does not sleep.
+void StepWorkers::publish(std::uint64_t word) {
+  posted_.word.store(word, std::memory_order_seq_cst);
+  if (sleepers_.load(std::memory_order_seq_cst) == 0) return;
   { const std::lock_guard<std::mutex> lock(sleepMutex_); }
   sleep_.notify_all();
 }
 
 void StepWorkers::helperLoop() {
+  const int worker = nextWorker_.fetch_add(1, std::memory_order_relaxed);
   std::uint32_t seen = 0;
   for (;;) {
-    std::uint32_t epoch = 0;
+    std::uint64_t word = 0;
     int spins = 0;
     // Spin through the short gaps between stages; sleep through the main worker's long
-    // serial stages (a futex), so an idle helper leaves its core to others.
-    while ((epoch = posted_.load(std::memory_order_acquire)) == seen) {
+    // serial stages, so an idle helper leaves its core to others.
+    while (epochOf(word = posted_.word.load(std::memory_order_acquire)) == seen) {
       if (spins < kSpins) {
         backoff(spins);
-      } else {
-        std::unique_lock<std::mutex> lock(sleepMutex_);
-        sleep_.wait(lock, [&] { return posted_.load(std::memory_order_acquire) != seen; });
+        continue;
       }
+      std::unique_lock<std::mutex> lock(sleepMutex_);
+      sleepers_.fetch_add(1, std::memory_order_seq_cst);
+      sleep_.wait(lock, [&] { return epochOf(posted_.word.load(std::memory_order_seq_cst)) != seen; });
+      sleepers_.fetch_sub(1, std::memory_order_relaxed);
     }
-    if (epoch == kExit) return;
-    seen = epoch;
-    tbb::this_task_arena::isolate([&] { runBlocks(epoch); });
+    seen = epochOf(word);
+    if (seen == kExit) return;
+    tbb::this_task_arena::isolate([&] { runUnits(word, worker); });
   }
 }
 
-void StepWorkers::runBlocks(std::uint32_t epoch) {
-  // The stage's description, read after the epoch was seen. If the main worker has moved on
-  // to a later stage meanwhile, the claim below sees a different epoch and runs nothing.
-  const BlockFn fn = fn_.load(std::memory_order_acquire);
-  void* const ctx = ctx_.load(std::memory_order_acquire);
-  const std::uint32_t blocks = blocks_.load(std::memory_order_acquire);
-  std::uint64_t word = claim_.load(std::memory_order_acquire);
+bool StepWorkers::claim(std::uint32_t unit, std::uint32_t epoch) {
+  std::atomic<std::uint32_t>& c = claimed_[unit];
+  std::uint32_t last = c.load(std::memory_order_relaxed);
+  while (last < epoch)
+    if (c.compare_exchange_weak(last, epoch, std::memory_order_acq_rel, std::memory_order_relaxed))
+      return true;
+  return false;
+}
+
+void StepWorkers::runUnits(std::uint64_t word, int worker) {
+  const std::uint32_t epoch = epochOf(word), units = unitsOf(word);
+  std::uint32_t start = 0;
+  if (!shareStart(worker, threads_, units, start)) return;
+  // The description, read after the word with acquire. If it is a later stage's, this stage
+  // has ended (see post) and every claim below fails.
+  const UnitFn fn = posted_.fn.load(std::memory_order_acquire);
+  void* const ctx = posted_.ctx.load(std::memory_order_acquire);
   std::uint32_t ran = 0;
-  for (;;) {
-    if (std::uint32_t(word >> 32) != epoch || std::uint32_t(word) >= blocks) break;
-    if (claim_.compare_exchange_weak(word, word + 1, std::memory_order_acq_rel,
-                                     std::memory_order_acquire)) {
-      try {
-        fn(ctx, std::uint32_t(word));
-      } catch (...) {
-        if (!failed_.exchange(true, std::memory_order_acq_rel)) error_ = std::current_exception();
-      }
-      ++ran;
-      ++word;  // the expected word of the next claim; a failed exchange corrects it
+  auto runUnit = [&](std::uint32_t unit) {
+    try {
+      fn(ctx, unit);
+    } catch (...) {
+      if (!failed_.exchange(true, std::memory_order_acq_rel)) error_ = std::current_exception();
     }
-  }
-  // Once per worker and stage, not per block: the count is a contended cache line.
+    ++ran;
+  };
+  // Forward through the share and on (wrapping) until a claimed unit, then backward from the
+  // share's start: a worker stops only at a unit another has taken, so every unit runs.
+  for (std::uint32_t u = start; claim(u, epoch); u = u + 1 == units ? 0 : u + 1) runUnit(u);
+  for (std::uint32_t u = start == 0 ? units - 1 : start - 1; claim(u, epoch);
+       u = u == 0 ? units - 1 : u - 1)
+    runUnit(u);
+  // Once per worker and stage, not per unit: the count is a contended cache line.
   if (ran > 0) done_.fetch_add(ran, std::memory_order_release);
 }
 

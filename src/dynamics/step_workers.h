@@ -1,13 +1,17 @@
 // Internal: workers that live for a whole step (Box2D v3's solver stages, on TBB's threads).
 //
 // A step is written as a sequence on the calling thread (the main worker). Where a stage has
-// independent work, the main worker posts it as `count` items cut into blocks; every worker,
-// the main one included, claims blocks with a compare-and-swap on one atomic word until none
-// is left, and the main worker waits for the last block before it goes on. Helper workers
-// spin between stages and sleep on a futex when the main worker's serial work lasts longer,
-// so a stage costs a few cache-line transfers rather than a fork and join of TBB tasks. The main
-// worker can run every block alone: a helper that TBB starts late, or never, only joins later
-// stages, so nothing waits on it.
+// independent work, the main worker posts it as `count` items cut into blocks, and the blocks
+// into at most kMaxUnits claim units. Every worker, the main one included, starts at its own
+// share of the units (worker w of n at unit w U / n) and claims units forward with a
+// compare-and-swap on each unit's word, then backward from its share's start: as in Box2D v3's
+// b2ExecuteStage, a worker finds the bodies of its share in its own cache in the next pass
+// over the same constraints, and a late or slow worker's units are taken from its share's
+// end. The main worker waits for the last unit before it goes on. Helper workers spin between
+// stages and sleep on a condition variable when the main worker's serial work lasts longer,
+// so a stage costs a few cache-line transfers rather than a fork and join of TBB tasks. The
+// main worker can run every unit alone: a helper that TBB starts late, or never, only joins
+// later stages, so nothing waits on it.
 //
 // Items of a stage must be independent (they write disjoint data); then the result is the
 // same whatever the number of workers and whichever worker ran which block.
@@ -15,6 +19,7 @@
 
 #include <tbb/task_arena.h>
 
+#include <array>
 #include <atomic>
 #include <condition_variable>
 #include <cstddef>
@@ -52,17 +57,22 @@ class StepWorkers {
     }
     struct Ctx {
       F* f;
-      std::size_t count, grain;
-    } ctx{&f, count, grain};
-    const std::size_t blocks = (count + grain - 1) / grain;
+      std::size_t count, grain, blocks;
+      std::uint32_t units;
+    } ctx{&f, count, grain, (count + grain - 1) / grain, 0};
+    ctx.units = static_cast<std::uint32_t>(ctx.blocks < kMaxUnits ? ctx.blocks : kMaxUnits);
     post(
-        [](void* p, std::uint32_t block) {
+        [](void* p, std::uint32_t unit) {
           const Ctx& c = *static_cast<const Ctx*>(p);
-          const std::size_t begin = std::size_t(block) * c.grain;
-          const std::size_t end = begin + c.grain < c.count ? begin + c.grain : c.count;
-          (*c.f)(begin, end);
+          // Unit u runs blocks [u B / U, (u + 1) B / U).
+          const std::size_t first = unit * c.blocks / c.units;
+          const std::size_t last = (unit + 1) * c.blocks / c.units;
+          for (std::size_t block = first; block < last; ++block) {
+            const std::size_t begin = block * c.grain;
+            (*c.f)(begin, begin + c.grain < c.count ? begin + c.grain : c.count);
+          }
         },
-        &ctx, static_cast<std::uint32_t>(blocks));
+        &ctx, ctx.units);
   }
 
   /// parallelFor with a grain that gives each worker about `perWorker` blocks (at least
@@ -76,7 +86,7 @@ class StepWorkers {
   }
 
  private:
-  using BlockFn = void (*)(void*, std::uint32_t);
+  using UnitFn = void (*)(void*, std::uint32_t);
   using DriverFn = void (*)(void*, StepWorkers&);
 
   template <class D>
@@ -84,32 +94,42 @@ class StepWorkers {
     (*static_cast<D*>(d))(w);
   }
 
+  // Claim units of one stage: enough for every worker's share and for stealing to balance,
+  // few enough that a stage's claim words fit in a few cache lines.
+  static constexpr std::uint32_t kMaxUnits = 256;
+  static constexpr std::uint32_t kExit = 0xffffffffu;  // the epoch that ends the helpers
+
   StepWorkers() = default;
   void start(tbb::task_arena* arena, DriverFn driver, void* ctx);
-  void post(BlockFn fn, void* ctx, std::uint32_t blocks);
+  void post(UnitFn fn, void* ctx, std::uint32_t units);
+  void publish(std::uint64_t word);
   void helperLoop();
-  // Claims and runs blocks of stage `epoch` while any is left.
-  void runBlocks(std::uint32_t epoch);
-
-  static constexpr std::uint32_t kExit = 0xffffffffu;    // the epoch that ends the helpers
-  static constexpr std::uint32_t kClosed = 0xffffffffu;  // a next block past any stage's count
+  // Claims and runs units of the stage of `word` (epoch and unit count), from worker's share.
+  void runUnits(std::uint64_t word, int worker);
+  bool claim(std::uint32_t unit, std::uint32_t epoch);
 
   int threads_ = 1;
   std::uint32_t epoch_ = 0;  // the main worker's count of posted stages
-  // Stage epoch in the high 32 bits, next unclaimed block in the low ones.
-  alignas(64) std::atomic<std::uint64_t> claim_{0};
-  // The posted stage: written by the main worker before it publishes the epoch in claim_.
-  std::atomic<BlockFn> fn_{nullptr};
-  std::atomic<void*> ctx_{nullptr};
-  std::atomic<std::uint32_t> blocks_{0};
-  alignas(64) std::atomic<std::uint32_t> done_{0};
-  // The last posted epoch. Idle helpers sleep on sleep_ until it changes: a condition variable
-  // with its mutex, not std::atomic::wait, whose notify in Debian 12's libstdc++ (GCC 12) was
-  // seen to lose a wakeup (a helper asleep on an epoch already past, the step never ending).
-  alignas(64) std::atomic<std::uint32_t> posted_{0};
+  // The posted stage in one cache line: its epoch (high 32 bits) and unit count (low), which
+  // the helpers spin on, and what runs a unit. The main worker writes fn_ and ctx_ only when
+  // every unit of the last stage has run, so a helper that reads them late (a later stage's)
+  // finds every unit of its own stage claimed, and runs nothing.
+  struct alignas(64) Posted {
+    std::atomic<std::uint64_t> word{0};
+    std::atomic<UnitFn> fn{nullptr};
+    std::atomic<void*> ctx{nullptr};
+  } posted_;
+  alignas(64) std::atomic<std::uint32_t> done_{0};  // units of the stage run
+  // Per unit, the last epoch in which a worker claimed it: a worker of epoch e claims a unit
+  // whose word is below e (epochs only grow, so a worker of an ended stage claims nothing).
+  alignas(64) std::array<std::atomic<std::uint32_t>, kMaxUnits> claimed_{};
+  alignas(64) std::atomic<int> nextWorker_{1};  // a helper's share index, on its first stage
+  // Helpers asleep on sleep_ (a condition variable with its mutex, not std::atomic::wait,
+  // whose notify in Debian 12's libstdc++ (GCC 12) was seen to lose a wakeup): the main worker
+  // takes the mutex and notifies only when one is.
+  std::atomic<int> sleepers_{0};
   std::mutex sleepMutex_;
   std::condition_variable sleep_;
-  void publish(std::uint32_t epoch);
   // The first exception a block threw, on whichever worker; rethrown by the main worker when
   // the stage is done.
   std::atomic<bool> failed_{false};
