@@ -8,15 +8,16 @@
 
 namespace inertia::detail {
 
-void finalizeBodies(RigidBodyData& D, const DynamicsSettings& s, Real dt, StepWorkers& workers) {
+void finalizeBodies(RigidBodyData& D, const DynamicsSettings& s, Real dt, StepWorkers& workers,
+                    void (*beside)(RigidBodyData&)) {
   const std::uint32_t bodyCount = static_cast<std::uint32_t>(D.bodies.size());
   const ContactTuning& tuning = s.contact;
   const Real h = dt / Real(s.substeps);
   // 6. Finalise: write back the solver's motion; free bodies fly with the chosen method.
   const Real sleepSpeed = tuning.sleepSpeed;
-  // Each body on its own: the workers take blocks of bodies.
-  workers.parallelFor(
-      bodyCount,
+  // Each body on its own: the workers take blocks of bodies, and one of them beside(D).
+  workers.parallelForBeside(
+      [&] { beside(D); }, bodyCount, workers.grainFor(bodyCount, 32),
       [&](std::size_t first, std::size_t last) {
         for (std::uint32_t bi = std::uint32_t(first); bi < last; ++bi) {
           BodyRecord& b = D.bodies[bi];
@@ -97,8 +98,7 @@ void finalizeBodies(RigidBodyData& D, const DynamicsSettings& s, Real dt, StepWo
           else
             b.sleepTime += dt;
         }
-      },
-      32);
+      });
 }
 
 }  // namespace inertia::detail

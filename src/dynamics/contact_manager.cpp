@@ -151,9 +151,13 @@ void queryNewPairs(Data& D, StepWorkers& workers) {
 }
 
 // Warm start: each point takes last step's impulses by (shapes, sub-shapes, feature id), in
-// one walk through both sorted lists per block of contacts, from the block's first key on.
-void matchWarmStart(Data& D, const ContactTuning& tuning, StepWorkers& workers) {
-  workers.parallelFor(D.contacts.size(), [&](std::size_t first, std::size_t last) {
+// one walk through both sorted lists per block of contacts, from the block's first key on;
+// beside(D) on one worker meanwhile.
+void matchWarmStart(Data& D, const ContactTuning& tuning, StepWorkers& workers,
+                    void (*beside)(RigidBodyData&)) {
+  const std::size_t count = D.contacts.size();
+  workers.parallelForBeside([&] { beside(D); }, count, workers.grainFor(count),
+                            [&](std::size_t first, std::size_t last) {
     auto previous =
         std::lower_bound(D.previous.begin(), D.previous.end(), contactKey(D.contacts[first]),
                          [](const ContactInfo& p, const auto& k) { return contactKey(p) < k; });
@@ -262,7 +266,8 @@ void updateBroadPhase(RigidBodyData& D, Real dt, const ContactTuning& tuning,
   sortPairs(D, treeCount);
 }
 
-void updateContacts(RigidBodyData& D, Real dt, const ContactTuning& tuning, StepWorkers& workers) {
+void updateContacts(RigidBodyData& D, Real dt, const ContactTuning& tuning, StepWorkers& workers,
+                    void (*beside)(RigidBodyData&)) {
   const bool reuse = tuning.reuseDistance > 0 && tuning.reuseAngle > 0;
   const Real reuseDistance2 = tuning.reuseDistance * tuning.reuseDistance;
   const Real reuseCosine = std::cos(Real(0.5) * tuning.reuseAngle);  // |q . q'| = cos(angle / 2)
@@ -450,7 +455,7 @@ void updateContacts(RigidBodyData& D, Real dt, const ContactTuning& tuning, Step
     D.contacts.swap(D.sortedContacts);
     D.extras.swap(D.sortedExtras);
   }
-  matchWarmStart(D, tuning, workers);
+  matchWarmStart(D, tuning, workers, beside);
 }
 
 void reportContactEvents(RigidBodyData& D) {

@@ -6,7 +6,7 @@
 //   - updateContacts: the narrow phase (collide() with a speculative margin, or last step's
 //     manifold carried along while the pair barely moved), the contacts of resting bodies kept,
 //     and the warm start's impulses matched to last step's points by (shapes, sub-shapes,
-//     feature id);
+//     feature id), with a stage that shares no data with the matching (the islands) beside it;
 //   - reportContactEvents: pairs that began or stopped touching.
 #pragma once
 
@@ -16,7 +16,8 @@
 namespace inertia::detail {
 
 void updateBroadPhase(RigidBodyData& D, Real dt, const ContactTuning& tuning, StepWorkers& workers);
-void updateContacts(RigidBodyData& D, Real dt, const ContactTuning& tuning, StepWorkers& workers);
+void updateContacts(RigidBodyData& D, Real dt, const ContactTuning& tuning, StepWorkers& workers,
+                    void (*beside)(RigidBodyData&));
 void reportContactEvents(RigidBodyData& D);
 
 }  // namespace inertia::detail

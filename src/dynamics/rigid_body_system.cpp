@@ -647,16 +647,16 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, detail::StepWorke
   const auto t0 = Clock::now();
   detail::updateBroadPhase(D, dt, s.contact, workers);
   const auto t1 = Clock::now();
-  detail::updateContacts(D, dt, s.contact, workers);
-  detail::buildIslands(D);
+  // The islands beside the warm start's matching, the contact events beside the bodies'
+  // motion: each pair shares no data.
+  detail::updateContacts(D, dt, s.contact, workers, &detail::buildIslands);
   detail::prepareContacts(D, s, dt, workers);
   const auto t2 = Clock::now();
   const double integration = detail::solveSubsteps(D, s, dt, workers);
   const auto t3 = Clock::now();
-  detail::finalizeBodies(D, s, dt, workers);
+  detail::finalizeBodies(D, s, dt, workers, &detail::reportContactEvents);
   detail::sleepIslands(D, s);
   const auto t4 = Clock::now();
-  detail::reportContactEvents(D);
   D.times.broadPhase += std::chrono::duration<double>(t1 - t0).count();
   D.times.narrowPhase += std::chrono::duration<double>(t2 - t1).count();
   D.times.solver += std::chrono::duration<double>(t3 - t2).count() - integration;

@@ -423,14 +423,19 @@ void prepareContacts(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
   const Softness soft = makeSoft(hertz, tuning.dampingRatio, h);
   const Softness staticSoft = makeSoft(2 * hertz, tuning.dampingRatio, h);
   prepareMultibodyContacts(D, s, soft, staticSoft);
-  workers.parallelFor(
-      D.constraints.size(),
-      [&](std::size_t first, std::size_t last) {
+  // The graph's colours (from the edges alone) on one worker while the others prepare the
+  // constraints.
+  const bool lcp = isLcp(s);
+  const std::size_t count = D.constraints.size();
+  workers.parallelForBeside(
+      [&] {
+        if (!lcp) colorGraph(D.jointEdges, D.contactEdges, D.solverBodies, D.coloring);
+      },
+      count, workers.grainFor(count, 32), [&](std::size_t first, std::size_t last) {
         for (std::size_t k = first; k < last; ++k)
           prepareContact(D, s, D.constraints[k], soft, staticSoft);
-      },
-      32);
-  if (isLcp(s)) {
+      });
+  if (lcp) {
     for (ContactConstraint& c : D.constraints) {
       const SolverBody none{};
       const SolverBody& a = c.bodyA >= 0 ? D.solverBodies[static_cast<std::size_t>(c.bodyA)] : none;
@@ -442,8 +447,7 @@ void prepareContacts(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
     D.lcpEdges.insert(D.lcpEdges.end(), D.jointEdges.begin(), D.jointEdges.end());
     groupConstraints(D.lcpEdges, D.solverBodies.size(), D.lcpIslands);
   } else {
-    // The graph's colours; the bundles compute the masses themselves, a bundle at a time.
-    colorGraph(D.jointEdges, D.contactEdges, D.solverBodies, D.coloring);
+    // The bundles compute the masses themselves, a bundle at a time.
     sortJointsByColor(D, workers);
     D.bundles.build(D.constraints, D.solverBodies, D.coloring, workers);
   }

@@ -55,34 +55,35 @@ class StepWorkers {
       f(std::size_t(0), count);
       return;
     }
-    struct Ctx {
-      F* f;
-      std::size_t count, grain, blocks;
-      std::uint32_t units;
-    } ctx{&f, count, grain, (count + grain - 1) / grain, 0};
-    ctx.units = static_cast<std::uint32_t>(ctx.blocks < kMaxUnits ? ctx.blocks : kMaxUnits);
-    post(
-        [](void* p, std::uint32_t unit) {
-          const Ctx& c = *static_cast<const Ctx*>(p);
-          // Unit u runs blocks [u B / U, (u + 1) B / U).
-          const std::size_t first = unit * c.blocks / c.units;
-          const std::size_t last = (unit + 1) * c.blocks / c.units;
-          for (std::size_t block = first; block < last; ++block) {
-            const std::size_t begin = block * c.grain;
-            (*c.f)(begin, begin + c.grain < c.count ? begin + c.grain : c.count);
-          }
-        },
-        &ctx, ctx.units);
+    postBlocks(static_cast<NoSide*>(nullptr), count, grain, f);
   }
 
-  /// parallelFor with a grain that gives each worker about `perWorker` blocks (at least
-  /// `minGrain` items each): for items whose cost does not depend on how they are grouped.
+  /// parallelFor(count, grain, f) with side() run once beside the blocks, as a unit of the
+  /// stage that the main worker starts with while the others take the blocks: serial work
+  /// that shares no data with the blocks runs in their time. In sequence, side() first.
+  template <class Side, class F>
+  void parallelForBeside(Side&& side, std::size_t count, std::size_t grain, F&& f) {
+    if (grain == 0) grain = 1;
+    if (threads_ <= 1 || count == 0) {
+      side();
+      if (count > 0) f(std::size_t(0), count);
+      return;
+    }
+    postBlocks(&side, count, grain, f);
+  }
+
+  /// A grain that gives each worker about `perWorker` blocks of at least `minGrain` items: for
+  /// items whose cost does not depend on how they are grouped.
+  std::size_t grainFor(std::size_t count, std::size_t minGrain = 64, int perWorker = 4) const {
+    const std::size_t parts = std::size_t(threads_) * std::size_t(perWorker);
+    const std::size_t grain = (count + parts - 1) / parts;
+    return grain < minGrain ? minGrain : grain;
+  }
+
+  /// parallelFor with grainFor(count, minGrain, perWorker).
   template <class F>
   void parallelFor(std::size_t count, F&& f, std::size_t minGrain = 64, int perWorker = 4) {
-    const std::size_t parts = std::size_t(threads_) * std::size_t(perWorker);
-    std::size_t grain = (count + parts - 1) / parts;
-    if (grain < minGrain) grain = minGrain;
-    parallelFor(count, grain, std::forward<F>(f));
+    parallelFor(count, grainFor(count, minGrain, perWorker), std::forward<F>(f));
   }
 
  private:
@@ -98,6 +99,40 @@ class StepWorkers {
   // few enough that a stage's claim words fit in a few cache lines.
   static constexpr std::uint32_t kMaxUnits = 256;
   static constexpr std::uint32_t kExit = 0xffffffffu;  // the epoch that ends the helpers
+
+  struct NoSide {
+    void operator()() const {}
+  };
+
+  // Posts f's blocks over [0, count) as one stage, preceded by (*side)() as unit 0 when side
+  // is not null.
+  template <class Side, class F>
+  void postBlocks(Side* side, std::size_t count, std::size_t grain, F& f) {
+    struct Ctx {
+      Side* side;
+      F* f;
+      std::size_t count, grain, blocks;
+      std::uint32_t first, units;  // first: the unit of block 0 (1 after a side job)
+    } ctx{side, &f, count, grain, (count + grain - 1) / grain, side ? 1u : 0u, 0};
+    const std::size_t most = kMaxUnits - ctx.first;
+    ctx.units = static_cast<std::uint32_t>(ctx.blocks < most ? ctx.blocks : most);
+    post(
+        [](void* p, std::uint32_t unit) {
+          const Ctx& c = *static_cast<const Ctx*>(p);
+          if (unit < c.first) {
+            (*c.side)();
+            return;
+          }
+          // Unit first + u runs blocks [u B / U, (u + 1) B / U).
+          const std::size_t u = unit - c.first;
+          for (std::size_t block = u * c.blocks / c.units; block < (u + 1) * c.blocks / c.units;
+               ++block) {
+            const std::size_t begin = block * c.grain;
+            (*c.f)(begin, begin + c.grain < c.count ? begin + c.grain : c.count);
+          }
+        },
+        &ctx, ctx.first + ctx.units);
+  }
 
   StepWorkers() = default;
   void start(tbb::task_arena* arena, DriverFn driver, void* ctx);

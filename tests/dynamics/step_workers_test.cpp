@@ -44,6 +44,36 @@ TEST(StepWorkers, EveryItemRunsOnce) {
   }
 }
 
+// A stage with a side job: the side job runs once and every item once, whatever the count,
+// grain and number of threads, and a side job that throws ends the step.
+TEST(StepWorkers, SideJobRunsOnceBesideTheBlocks) {
+  for (int threads : {1, 2, 4}) {
+    tbb::task_arena arena(threads);
+    StepWorkers::run(&arena, [&](StepWorkers& w) {
+      for (std::size_t count : {0, 1, 7, 1000, 100003}) {
+        for (std::size_t grain : {1, 64, 5000}) {
+          std::vector<int> runs(count, 0);
+          int sides = 0;
+          w.parallelForBeside([&] { ++sides; }, count, grain,
+                              [&](std::size_t first, std::size_t last) {
+                                for (std::size_t i = first; i < last; ++i) ++runs[i];
+                              });
+          ASSERT_EQ(sides, 1) << count << " items, grain " << grain << ", " << threads;
+          for (std::size_t i = 0; i < count; ++i)
+            ASSERT_EQ(runs[i], 1) << "item " << i << " of " << count << ", grain " << grain;
+        }
+      }
+    });
+    EXPECT_THROW(StepWorkers::run(&arena,
+                                  [](StepWorkers& w) {
+                                    w.parallelForBeside([] { throw std::runtime_error("side"); },
+                                                        100, 1, [](std::size_t, std::size_t) {});
+                                  }),
+                 std::runtime_error)
+        << threads << " threads";
+  }
+}
+
 // A chain of stages, each reading what the stage before wrote in another order: item i of a
 // stage adds item (i * 7919) % n of the last (written by any worker). The sums are those of
 // the same chain in sequence; a stage that started before the last one's writes were visible,
