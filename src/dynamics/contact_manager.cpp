@@ -72,10 +72,12 @@ void gatherInOrder(StepWorkers& workers, std::size_t n, std::vector<ChunkOf<A>>&
 
 // Per body, in parallel: the shapes' frames for the narrow phase, whether the body is
 // continuous this step, and the new bounds of the proxies of awake bodies (swept over the
-// step for a fast body, so that it meets what lies in its path).
+// step for a fast body, so that it meets what lies in its path) with whether each must move
+// in the broad phase's trees.
 void refreshFrames(Data& D, Real dt, const ContactTuning& tuning, StepWorkers& workers) {
   D.frames.resize(D.shapes.size());
   D.proxyBoxes.resize(D.shapes.size());
+  D.proxyMoves.resize(D.shapes.size());
   workers.parallelFor(
       D.bodies.size(),
       [&](std::size_t first, std::size_t last) {
@@ -109,24 +111,28 @@ void refreshFrames(Data& D, Real dt, const ContactTuning& tuning, StepWorkers& w
               const Real spin = b.w.norm() * b.extent * dt;
               box = box.merged({box.lower + displacement, box.upper + displacement}).inflated(spin);
             }
-            D.proxyBoxes[si] = box.inflated(tuning.speculativeDistance);
+            box = box.inflated(tuning.speculativeDistance);
+            D.proxyBoxes[si] = box;
+            // The trees are not changed until moveProxies: reading a fat box here is safe.
+            D.proxyMoves[si] = !(D.broadPhase.fatAabb(sh.proxy).contains(box) &&
+                                 (box.lower.array() <= box.upper.array()).all() &&
+                                 displacement.allFinite());
           }
         }
       },
       32);
 }
 
-// In sequence (the trees change): the proxies of awake bodies take their new bounds; those
-// that left their fat box are reinserted and count as moved.
+// In sequence (the trees change): the proxies of awake bodies that left their fat box (found
+// by refreshFrames on the workers) are reinserted and count as moved.
 void moveProxies(Data& D, Real dt) {
   D.awakeProxies.clear();
   for (BodyRecord& b : D.bodies) {
     if (!b.alive || b.type == BodyType::Static || !b.awake) continue;
-    const Vec3 displacement = b.v * dt;
     for (std::uint32_t si : b.shapes) {
       const ShapeRecord& sh = D.shapes[si];
       if (sh.proxy == BroadPhase::kNull) continue;
-      D.broadPhase.moveProxy(sh.proxy, D.proxyBoxes[si], displacement);
+      if (D.proxyMoves[si]) D.broadPhase.moveProxy(sh.proxy, D.proxyBoxes[si], b.v * dt);
       D.awakeProxies.push_back(sh.proxy);
     }
   }
