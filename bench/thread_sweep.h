@@ -62,6 +62,40 @@ inline std::vector<int> threadCounts(int& argc, char** argv) {
   return counts;
 }
 
+// How many times to time each of Inertia's thread counts (at least 1): "--repeat N" (or
+// "--repeat=N") in argv, removed from argv like --threads. On a shared machine whose speed
+// wanders from run to run, the benchmarks keep the fastest of the N runs of each count, taken
+// in turn (1, 2, all, 1, 2, all, ...) so that a slow spell falls on every count alike. Exits
+// with a message on a malformed count.
+inline int repeatCount(int& argc, char** argv) {
+  int repeat = 1;
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view arg = argv[i];
+    std::string value;
+    int used = 0;
+    if (arg == "--repeat") {
+      value = i + 1 < argc ? argv[i + 1] : "";
+      used = std::min(2, argc - i);
+    } else if (arg.starts_with("--repeat=")) {
+      value = arg.substr(9);
+      used = 1;
+    } else {
+      continue;
+    }
+    char* end = nullptr;
+    const long n = std::strtol(value.c_str(), &end, 10);
+    if (value.empty() || *end != '\0' || n < 1 || n > 1000) {
+      std::fprintf(stderr, "--repeat: expected a count in 1..1000, got '%s'\n", value.c_str());
+      std::exit(2);
+    }
+    repeat = int(n);
+    std::copy(argv + i + used, argv + argc + 1, argv + i);  // argv[argc] is null
+    argc -= used;
+    --i;
+  }
+  return repeat;
+}
+
 // "1, 2, 16": thread counts for the reports.
 inline std::string countList(const std::vector<int>& counts) {
   std::string list;
