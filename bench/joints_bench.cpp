@@ -378,34 +378,6 @@ bool checkSameBits(const Scene& scene, const std::vector<int>& counts,
   return same;
 }
 
-// "--steps N" (or "--steps=N"): removed from argv; exits with a message when malformed.
-void readSteps(int& argc, char** argv) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    std::string value;
-    int used = 0;
-    if (arg == "--steps" && i + 1 < argc) {
-      value = argv[i + 1];
-      used = 2;
-    } else if (arg.starts_with("--steps=")) {
-      value = arg.substr(8);
-      used = 1;
-    } else {
-      continue;
-    }
-    char* end = nullptr;
-    const long n = std::strtol(value.c_str(), &end, 10);
-    if (value.empty() || *end != '\0' || n < 1 || n > 1'000'000) {
-      std::fprintf(stderr, "--steps: expected a count in 1..1000000, got '%s'\n", value.c_str());
-      std::exit(2);
-    }
-    gSteps = int(n);
-    std::copy(argv + i + used, argv + argc + 1, argv + i);  // argv[argc] is null
-    argc -= used;
-    --i;
-  }
-}
-
 }  // namespace
 
 // Arguments, all optional: scene names to run (default: chain, joint_grid, ragdolls); --threads
@@ -413,7 +385,7 @@ void readSteps(int& argc, char** argv) {
 // --steps N (default 600).
 int main(int argc, char** argv) {
   const std::vector<int> counts = bench::threadCounts(argc, argv);
-  readSteps(argc, argv);
+  gSteps = bench::countOption(argc, argv, "--steps", 1'000'000, gSteps);
   std::vector<std::string> only(argv + 1, argv + argc);
 #ifdef INERTIA_BENCH_ODE
   dInitODE2(0);

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -20,42 +21,64 @@ namespace inertia::bench {
 // which std::thread::hardware_concurrency() does not, and it is what a world of 0 threads uses.
 inline int allCores() { return std::max(1, tbb::info::default_concurrency()); }
 
+// Removes every "NAME VALUE" and "NAME=VALUE" from argv, so that the benchmark's own arguments
+// stay where they were, and returns the last VALUE ("" for a NAME with nothing after it), or
+// nothing when NAME is absent.
+inline std::optional<std::string> takeOption(int& argc, char** argv, std::string_view name) {
+  std::optional<std::string> value;
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view arg = argv[i];
+    int used = 0;
+    if (arg == name) {
+      value = i + 1 < argc ? argv[i + 1] : "";
+      used = std::min(2, argc - i);
+    } else if (arg.size() > name.size() && arg.starts_with(name) && arg[name.size()] == '=') {
+      value = std::string(arg.substr(name.size() + 1));
+      used = 1;
+    } else {
+      continue;
+    }
+    std::copy(argv + i + used, argv + argc + 1, argv + i);  // argv[argc] is null
+    argc -= used;
+    --i;
+  }
+  return value;
+}
+
+// takeOption's value as a count in 1..most (`fallback` when absent); exits with a message
+// naming the option when it is malformed.
+inline int countOption(int& argc, char** argv, std::string_view name, long most, int fallback) {
+  const std::optional<std::string> value = takeOption(argc, argv, name);
+  if (!value) return fallback;
+  char* end = nullptr;
+  const long n = std::strtol(value->c_str(), &end, 10);
+  if (value->empty() || *end != '\0' || n < 1 || n > most) {
+    std::fprintf(stderr, "%s: expected a count in 1..%ld, got '%s'\n", std::string(name).c_str(),
+                 most, value->c_str());
+    std::exit(2);
+  }
+  return int(n);
+}
+
 // The thread counts to time, ascending, each once, 1 always first (the speed-ups are against it).
 // "--threads 1,2,16" (or "--threads=1,2,16") in argv chooses them, and is removed from argv so
 // that the benchmark's own arguments stay where they were; the default is 1, 2 and all cores.
 // Exits with a message on a malformed list.
 inline std::vector<int> threadCounts(int& argc, char** argv) {
+  const std::optional<std::string> list = takeOption(argc, argv, "--threads");
   std::vector<int> counts = {1, 2, allCores()};
-  for (int i = 1; i < argc; ++i) {
-    const std::string_view arg = argv[i];
-    std::string list;
-    int used = 0;
-    if (arg == "--threads") {
-      list = i + 1 < argc ? argv[i + 1] : "";
-      used = std::min(2, argc - i);
-    } else if (arg.starts_with("--threads=")) {
-      list = arg.substr(10);
-      used = 1;
-    } else {
-      continue;
+  if (list) counts = {1};
+  for (const char* s = list ? list->c_str() : nullptr; s; ++s) {
+    char* end = nullptr;
+    const long n = std::strtol(s, &end, 10);
+    if (end == s || n < 1 || n > 1024 || (*end != ',' && *end != '\0')) {
+      std::fprintf(stderr, "--threads: expected counts in 1..1024 separated by commas, got '%s'\n",
+                   list->c_str());
+      std::exit(2);
     }
-    counts = {1};
-    for (const char* s = list.c_str();; ++s) {
-      char* end = nullptr;
-      const long n = std::strtol(s, &end, 10);
-      if (end == s || n < 1 || n > 1024 || (*end != ',' && *end != '\0')) {
-        std::fprintf(stderr,
-                     "--threads: expected counts in 1..1024 separated by commas, got '%s'\n",
-                     list.c_str());
-        std::exit(2);
-      }
-      counts.push_back(int(n));
-      if (*end == '\0') break;
-      s = end;
-    }
-    std::copy(argv + i + used, argv + argc + 1, argv + i);  // argv[argc] is null
-    argc -= used;
-    --i;
+    counts.push_back(int(n));
+    if (*end == '\0') break;
+    s = end;
   }
   std::sort(counts.begin(), counts.end());
   counts.erase(std::unique(counts.begin(), counts.end()), counts.end());
@@ -64,36 +87,11 @@ inline std::vector<int> threadCounts(int& argc, char** argv) {
 
 // How many times to time each of Inertia's thread counts (at least 1): "--repeat N" (or
 // "--repeat=N") in argv, removed from argv like --threads. On a shared machine whose speed
-// wanders from run to run, the benchmarks keep the fastest of the N runs of each count, taken
+// wanders from run to run, a benchmark that takes it keeps the fastest of the N runs of each count, taken
 // in turn (1, 2, all, 1, 2, all, ...) so that a slow spell falls on every count alike. Exits
 // with a message on a malformed count.
 inline int repeatCount(int& argc, char** argv) {
-  int repeat = 1;
-  for (int i = 1; i < argc; ++i) {
-    const std::string_view arg = argv[i];
-    std::string value;
-    int used = 0;
-    if (arg == "--repeat") {
-      value = i + 1 < argc ? argv[i + 1] : "";
-      used = std::min(2, argc - i);
-    } else if (arg.starts_with("--repeat=")) {
-      value = arg.substr(9);
-      used = 1;
-    } else {
-      continue;
-    }
-    char* end = nullptr;
-    const long n = std::strtol(value.c_str(), &end, 10);
-    if (value.empty() || *end != '\0' || n < 1 || n > 1000) {
-      std::fprintf(stderr, "--repeat: expected a count in 1..1000, got '%s'\n", value.c_str());
-      std::exit(2);
-    }
-    repeat = int(n);
-    std::copy(argv + i + used, argv + argc + 1, argv + i);  // argv[argc] is null
-    argc -= used;
-    --i;
-  }
-  return repeat;
+  return countOption(argc, argv, "--repeat", 1000, 1);
 }
 
 // "1, 2, 16": thread counts for the reports.
