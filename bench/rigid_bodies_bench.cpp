@@ -355,7 +355,9 @@ int main(int argc, char** argv) {
       for (ThreadRuns& c : configs)
         for (std::size_t k = 0; k < counts.size(); ++k) {
           Result r = runInertia(scene, c.solver, counts[k]);
-          if (r.finalState != c.runs[k].finalState) {
+          const std::vector<Real>& first = c.runs[k].finalState;
+          if (r.finalState.size() != first.size() ||
+              std::memcmp(r.finalState.data(), first.data(), first.size() * sizeof(Real)) != 0) {
             std::printf("*** DIFFERENT BITS *** %s, %s: run %d at %d threads ends otherwise "
                         "than the first\n",
                         scene.name.c_str(), c.label.c_str(), rep + 1, counts[k]);
@@ -368,15 +370,18 @@ int main(int argc, char** argv) {
     for (const ThreadRuns& c : configs) differentBits += checkSameBits(scene, counts, c) ? 0 : 1;
   }
   std::printf(
-      "\nms/step: mean wall-clock time of the %d steps (Inertia's thread table: the fastest of "
-      "%d runs of each count, taken in turn). Inertia's phase split from "
+      "\nms/step: mean wall-clock time of the %d steps%s. Inertia's phase split from "
       "World::phaseTimes(); its speed-up is its ms/step on 1 thread over that on the count "
       "(WorldSettings::threads, the size of its TBB arena). Bullet: btDiscreteDynamicsWorld, "
       "btDbvtBroadphase, btSequentialImpulseConstraintSolver (defaults: 10 iterations, split "
       "impulse, warm starting 0.85), stepSimulation(1/60, 0), DISABLE_DEACTIVATION.%s Pyramid "
       "max disp.: the largest final displacement of a box from its start; it stands when <= "
       "0.25 m.\n",
-      kSteps, repeat,
+      kSteps,
+      repeat > 1 ? (" (Inertia's thread table: the fastest of " + std::to_string(repeat) +
+                    " runs of each count, taken in turn)")
+                       .c_str()
+                 : "",
 #ifdef INERTIA_BENCH_ODE
       " ODE (double): dHashSpace, up to 4 contacts a pair, dContactApprox1 with mu 0.6, "
       "default ERP 0.2 and CFM, dWorldQuickStep (default 20 iterations), auto-disable off."

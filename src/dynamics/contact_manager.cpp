@@ -115,6 +115,7 @@ void refreshFrames(Data& D, Real dt, const ContactTuning& tuning, StepWorkers& w
             D.proxyBoxes[si] = box;
             // The trees are not changed until moveProxies: reading a fat box here is safe.
             D.proxyMoves[si] = !(D.broadPhase.fatAabb(sh.proxy).contains(box) &&
+                                 box.lower.allFinite() && box.upper.allFinite() &&
                                  (box.lower.array() <= box.upper.array()).all() &&
                                  displacement.allFinite());
           }

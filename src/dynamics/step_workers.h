@@ -3,7 +3,7 @@
 // A step is written as a sequence on the calling thread (the main worker). Where a stage has
 // independent work, the main worker posts it as `count` items cut into blocks, and the blocks
 // into at most kMaxUnits claim units. Every worker, the main one included, starts at its own
-// share of the units (worker w of n at unit w U / n) and claims units forward with a
+// share of the units (worker w of n at about unit w U / n) and claims units forward with a
 // compare-and-swap on each unit's word, then backward from its share's start: as in Box2D v3's
 // b2ExecuteStage, a worker finds the bodies of its share in its own cache in the next pass
 // over the same constraints, and a late or slow worker's units are taken from its share's
@@ -144,6 +144,7 @@ class StepWorkers {
   bool claim(std::uint32_t unit, std::uint32_t epoch);
 
   int threads_ = 1;
+  int cores_ = 1;  // the cores this process may run on
   std::uint32_t epoch_ = 0;  // the main worker's count of posted stages
   // The posted stage in one cache line: its epoch (high 32 bits) and unit count (low), which
   // the helpers spin on, and what runs a unit. The main worker writes fn_ and ctx_ only when
