@@ -14,6 +14,8 @@
 // largest box displacement (it "stands" when no box moved more than 0.25 m), bodies below
 // y = -1 m (fell through the ground), bodies outside the pile's box, non-finite states and the
 // final kinetic energy.
+#include <btBulletDynamicsCommon.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -24,8 +26,6 @@
 #include <numbers>
 #include <string>
 #include <vector>
-
-#include <btBulletDynamicsCommon.h>
 #ifdef INERTIA_BENCH_ODE
 #include <ode/ode.h>
 #endif
@@ -358,9 +358,10 @@ int main(int argc, char** argv) {
           const std::vector<Real>& first = c.runs[k].finalState;
           if (r.finalState.size() != first.size() ||
               std::memcmp(r.finalState.data(), first.data(), first.size() * sizeof(Real)) != 0) {
-            std::printf("*** DIFFERENT BITS *** %s, %s: run %d at %d threads ends otherwise "
-                        "than the first\n",
-                        scene.name.c_str(), c.label.c_str(), rep + 1, counts[k]);
+            std::printf(
+                "*** DIFFERENT BITS *** %s, %s: run %d at %d threads ends otherwise "
+                "than the first\n",
+                scene.name.c_str(), c.label.c_str(), rep + 1, counts[k]);
             ++differentBits;
           } else if (r.msPerStep < c.runs[k].msPerStep) {
             c.runs[k] = std::move(r);

@@ -3,6 +3,8 @@
 // (DESIGN.md section 7: results independent of thread count).
 #pragma once
 
+#include <tbb/info.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
@@ -12,8 +14,6 @@
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <tbb/info.h>
 
 namespace inertia::bench {
 
@@ -87,8 +87,8 @@ inline std::vector<int> threadCounts(int& argc, char** argv) {
 
 // How many times to time each of Inertia's thread counts (at least 1): "--repeat N" (or
 // "--repeat=N") in argv, removed from argv like --threads. On a shared machine whose speed
-// wanders from run to run, a benchmark that takes it keeps the fastest of the N runs of each count, taken
-// in turn (1, 2, all, 1, 2, all, ...) so that a slow spell falls on every count alike. Exits
+// wanders from run to run, a benchmark that takes it keeps the fastest of the N runs of each count,
+// taken in turn (1, 2, all, 1, 2, all, ...) so that a slow spell falls on every count alike. Exits
 // with a message on a malformed count.
 inline int repeatCount(int& argc, char** argv) {
   return countOption(argc, argv, "--repeat", 1000, 1);

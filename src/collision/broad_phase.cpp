@@ -71,6 +71,12 @@ bool BroadPhase::moveProxy(int id, const Aabb& box, const Vec3& displacement) {
   return true;
 }
 
+bool BroadPhase::keeps(int id, const Aabb& box, const Vec3& displacement) const {
+  requireProxy(id, "BroadPhase::keeps");
+  const Proxy& p = proxies_[id];
+  return trees_[treeOf(p.type)].keeps(p.treeId, box, displacement);
+}
+
 void BroadPhase::setType(int id, ProxyType type) {
   requireProxy(id, "BroadPhase::setType");
   Proxy& p = proxies_[id];

@@ -100,6 +100,12 @@ bool DynamicTree::moveProxy(int id, const Aabb& box, const Vec3& displacement) {
   return true;
 }
 
+bool DynamicTree::keeps(int id, const Aabb& box, const Vec3& displacement) const {
+  requireProxy(id, "DynamicTree::keeps");
+  return isFinite(box.lower) && isFinite(box.upper) && box.isValid() && isFinite(displacement) &&
+         nodes_[id].box.contains(box);
+}
+
 void DynamicTree::insertLeaf(int leaf) {
   if (root_ == kNull) {
     root_ = leaf;

@@ -113,11 +113,8 @@ void refreshFrames(Data& D, Real dt, const ContactTuning& tuning, StepWorkers& w
             }
             box = box.inflated(tuning.speculativeDistance);
             D.proxyBoxes[si] = box;
-            // The trees are not changed until moveProxies: reading a fat box here is safe.
-            D.proxyMoves[si] = !(D.broadPhase.fatAabb(sh.proxy).contains(box) &&
-                                 box.lower.allFinite() && box.upper.allFinite() &&
-                                 (box.lower.array() <= box.upper.array()).all() &&
-                                 displacement.allFinite());
+            // The trees do not change until moveProxies: the test is safe here.
+            D.proxyMoves[si] = !D.broadPhase.keeps(sh.proxy, box, displacement);
           }
         }
       },
@@ -163,35 +160,37 @@ void queryNewPairs(Data& D, StepWorkers& workers) {
 void matchWarmStart(Data& D, const ContactTuning& tuning, StepWorkers& workers,
                     void (*beside)(RigidBodyData&)) {
   const std::size_t count = D.contacts.size();
-  workers.parallelForBeside([&] { beside(D); }, count, workers.grainFor(count),
-                            [&](std::size_t first, std::size_t last) {
-    auto previous =
-        std::lower_bound(D.previous.begin(), D.previous.end(), contactKey(D.contacts[first]),
-                         [](const ContactInfo& p, const auto& k) { return contactKey(p) < k; });
-    for (std::size_t i = first; i < last; ++i) {
-      ContactInfo& c = D.contacts[i];
-      ContactExtra& e = D.extras[i];
-      e.touching = false;
-      for (int k = 0; k < c.manifold.pointCount; ++k)
-        e.touching = e.touching || c.manifold.points[k].separation <= tuning.linearSlop;
-      if (std::exchange(e.carried, false)) continue;
-      const auto key = contactKey(c);
-      while (previous != D.previous.end() && contactKey(*previous) < key) ++previous;
-      const auto it = previous;
-      if (it == D.previous.end() || contactKey(*it) != key || it->bodyA != c.bodyA) continue;
-      const ContactExtra& pe = D.previousExtras[static_cast<std::size_t>(it - D.previous.begin())];
-      bool carried = false;
-      for (int k = 0; k < c.manifold.pointCount; ++k) {
-        for (int j = 0; j < it->manifold.pointCount; ++j) {
-          if (it->manifold.points[j].id != c.manifold.points[k].id) continue;
-          c.normalImpulses[k] = it->normalImpulses[j];
-          e.tangentImpulse[k] = pe.tangentImpulse[j];
-          carried = true;
+  workers.parallelForBeside(
+      [&] { beside(D); }, count, workers.grainFor(count),
+      [&](std::size_t first, std::size_t last) {
+        auto previous =
+            std::lower_bound(D.previous.begin(), D.previous.end(), contactKey(D.contacts[first]),
+                             [](const ContactInfo& p, const auto& k) { return contactKey(p) < k; });
+        for (std::size_t i = first; i < last; ++i) {
+          ContactInfo& c = D.contacts[i];
+          ContactExtra& e = D.extras[i];
+          e.touching = false;
+          for (int k = 0; k < c.manifold.pointCount; ++k)
+            e.touching = e.touching || c.manifold.points[k].separation <= tuning.linearSlop;
+          if (std::exchange(e.carried, false)) continue;
+          const auto key = contactKey(c);
+          while (previous != D.previous.end() && contactKey(*previous) < key) ++previous;
+          const auto it = previous;
+          if (it == D.previous.end() || contactKey(*it) != key || it->bodyA != c.bodyA) continue;
+          const ContactExtra& pe =
+              D.previousExtras[static_cast<std::size_t>(it - D.previous.begin())];
+          bool carried = false;
+          for (int k = 0; k < c.manifold.pointCount; ++k) {
+            for (int j = 0; j < it->manifold.pointCount; ++j) {
+              if (it->manifold.points[j].id != c.manifold.points[k].id) continue;
+              c.normalImpulses[k] = it->normalImpulses[j];
+              e.tangentImpulse[k] = pe.tangentImpulse[j];
+              carried = true;
+            }
+          }
+          if (carried) e.angularImpulse = pe.angularImpulse;
         }
-      }
-      if (carried) e.angularImpulse = pe.angularImpulse;
-    }
-  });
+      });
 }
 
 // The narrow phase's pairs sorted by shape index, each once, from three runs: the kept pairs,

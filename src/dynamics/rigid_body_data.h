@@ -266,9 +266,8 @@ struct RigidBodyData {
   std::vector<ProxyPair> proxyPairs;
   std::vector<ChunkOf<ProxyPair>> pairChunks;  // the parallel queries' output
   std::vector<Aabb> proxyBoxes;  // per shape slot: the new bounds of an awake body's proxy
-  // Per shape slot: 1 when an awake body's proxy must go through BroadPhase::moveProxy (its new
-  // bounds left its fat box, or are not a finite box after a finite move, which moveProxy
-  // refuses); 0 when moveProxy would leave it as it is.
+  // Per shape slot: 1 when an awake body's proxy must go through BroadPhase::moveProxy (to be
+  // reinserted, or refused); 0 when the broad phase keeps it (BroadPhase::keeps).
   std::vector<std::uint8_t> proxyMoves;
   using ShapePair = std::pair<std::uint32_t, std::uint32_t>;
   std::vector<ShapePair> pairs;

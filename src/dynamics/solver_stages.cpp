@@ -431,7 +431,8 @@ void prepareContacts(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
       [&] {
         if (!lcp) colorGraph(D.jointEdges, D.contactEdges, D.solverBodies, D.coloring);
       },
-      count, workers.grainFor(count, 32), [&](std::size_t first, std::size_t last) {
+      count, workers.grainFor(count, 32),
+      [&](std::size_t first, std::size_t last) {
         for (std::size_t k = first; k < last; ++k)
           prepareContact(D, s, D.constraints[k], soft, staticSoft);
       });

@@ -22,10 +22,11 @@ namespace {
 constexpr int kSpins = 2000;
 
 // How long an idle helper stays awake (pausing, then yielding its core) before it sleeps, when
-// the workers are no more than the cores: longer than the main worker's serial stages within a step, since a sleeping helper wakes
-// tens of microseconds late and misses the stages that follow. Measured on the 820-box pyramid
-// at 2 threads: with 2,000 pauses (about 0.1 ms here) and then sleep, the helper slept 3.6
-// times a step and the step took 2.49 ms; staying awake, 0.01 times and 1.93 ms.
+// the workers are no more than the cores: longer than the main worker's serial stages within a
+// step, since a sleeping helper wakes tens of microseconds late and misses the stages that follow.
+// Measured on the 820-box pyramid at 2 threads: with 2,000 pauses (about 0.1 ms here) and then
+// sleep, the helper slept 3.6 times a step and the step took 2.49 ms; staying awake, 0.01 times
+// and 1.93 ms.
 constexpr std::chrono::microseconds kIdleAwake{1000};
 
 // A short wait in a spin: pauses, then yields the core, so that a machine with more busy

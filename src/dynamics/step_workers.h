@@ -144,7 +144,7 @@ class StepWorkers {
   bool claim(std::uint32_t unit, std::uint32_t epoch);
 
   int threads_ = 1;
-  int cores_ = 1;  // the cores this process may run on
+  int cores_ = 1;            // the cores this process may run on
   std::uint32_t epoch_ = 0;  // the main worker's count of posted stages
   // The posted stage in one cache line: its epoch (high 32 bits) and unit count (low), which
   // the helpers spin on, and what runs a unit. The main worker writes fn_ and ctx_ only when

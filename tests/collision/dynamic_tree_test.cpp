@@ -47,6 +47,42 @@ int heightBound(std::size_t n) {
 
 }  // namespace
 
+// keeps() answers what moveProxy would do without doing it: true exactly when moveProxy leaves
+// the proxy as it is (returns false without throwing), for a box inside, one outside, and the
+// inputs moveProxy refuses (non-finite or inverted boxes, a non-finite move).
+TEST(DynamicTree, KeepsIsWhatMoveProxyWouldDo) {
+  const Real inf = std::numeric_limits<Real>::infinity();
+  const Real nan = std::numeric_limits<Real>::quiet_NaN();
+  const Aabb start{Vec3(0, 0, 0), Vec3(1, 1, 1)};
+  const Aabb inside{Vec3(Real(0.05), 0, 0), Vec3(Real(1.05), 1, 1)};  // within the margin
+  const Aabb outside{Vec3(2, 0, 0), Vec3(3, 1, 1)};
+  const Aabb inverted{Vec3(Real(0.5), 0, 0), Vec3(Real(0.4), 1, 1)};
+  const Aabb notFinite{Vec3(0, 0, 0), Vec3(inf, 1, 1)};
+  const Aabb notANumber{Vec3(nan, 0, 0), Vec3(1, 1, 1)};
+  struct Case {
+    Aabb box;
+    Vec3 displacement;
+  };
+  const Case cases[] = {{inside, Vec3::Zero()},     {outside, Vec3::Zero()},
+                        {inverted, Vec3::Zero()},   {notFinite, Vec3::Zero()},
+                        {notANumber, Vec3::Zero()}, {inside, Vec3(nan, 0, 0)}};
+  for (const Case& c : cases) {
+    DynamicTree tree;
+    const int id = tree.createProxy(start, 0);
+    const bool keeps = tree.keeps(id, c.box, c.displacement);
+    bool moved = true;
+    try {
+      moved = tree.moveProxy(id, c.box, c.displacement);
+    } catch (const InvalidArgument&) {
+    }
+    EXPECT_EQ(keeps, !moved) << c.box.lower.transpose() << " .. " << c.box.upper.transpose();
+  }
+  DynamicTree tree;
+  const int id = tree.createProxy(start, 0);
+  EXPECT_TRUE(tree.keeps(id, inside, Vec3::Zero()));
+  EXPECT_FALSE(tree.keeps(id, outside, Vec3::Zero()));
+}
+
 TEST(DynamicTree, PairsMatchBruteForceOverRandomUpdates) {
   std::mt19937 rng(7);
   DynamicTree tree({.margin = Real(0.1), .displacementMultiplier = Real(2)});

@@ -65,6 +65,9 @@ class BroadPhase {
   /// counts as moved only when `box` left its fat box (the tree then reinserts it); returns
   /// whether it did.
   bool moveProxy(int id, const Aabb& box, const Vec3& displacement = Vec3::Zero());
+  /// True when moveProxy(id, box, displacement) would neither change the proxy nor throw
+  /// (DynamicTree::keeps). Const: concurrent calls are fine while nothing moves.
+  bool keeps(int id, const Aabb& box, const Vec3& displacement = Vec3::Zero()) const;
   /// Changes a proxy's type, moving it between the trees when needed; it counts as moved.
   void setType(int id, ProxyType type);
 

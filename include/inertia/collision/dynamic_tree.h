@@ -78,6 +78,10 @@ class DynamicTree {
   /// the leaf gets a new fat box (inflated by the margin, stretched by multiplier*displacement),
   /// is reinserted and it returns true.
   bool moveProxy(int id, const Aabb& box, const Vec3& displacement);
+  /// True when moveProxy(id, box, displacement) would neither change the proxy nor throw: a
+  /// finite box with lower <= upper inside the fat box, after a finite displacement. Const: a
+  /// caller may test many proxies concurrently and move only the others.
+  bool keeps(int id, const Aabb& box, const Vec3& displacement) const;
 
   /// The fat box of a live proxy (m). Inline, as the world reads it for every pair every step.
   const Aabb& fatAabb(int id) const {

@@ -185,9 +185,8 @@ class Deformable {
   /// InvalidArgument when h is not finite and > 0. Never produces NaN from valid input: an
   /// implicit solve that fails to give finite values leaves the velocities as they were, and an
   /// explicit step that diverges (past the method's stability limit) is undone; lastSolve()
-  /// says so. The
-  /// implicit solve runs on the threads of `pool` (in sequence when null); the result is the
-  /// same bytes.
+  /// says so. The implicit solve runs on the threads of `pool` (in sequence when null); the
+  /// result is the same bytes.
   void step(Real h, ThreadPool* pool = nullptr);
   /// The same on the workers of a step already under way (a World's). Internal.
   void step(Real h, detail::StepWorkers& workers);
