@@ -12,6 +12,7 @@
 // - joint_grid: Box2D v3's joint_grid in 3D: 100 x 100 spheres (r 0.4 m, 1 m apart) in a
 //   vertical plane, each joined to its right and lower neighbours by a ball joint (19,800), the
 //   middle 7 of the top row pinned to the world by 7 more (Bullet: btPoint2PointConstraint);
+//   as in Box2D's, a collision filter keeps the spheres from colliding (category 2, mask ~2);
 // - ragdolls: 100 ragdolls (11 bodies, 10 joints each) dropped at assorted tilts and heights onto
 //   a ground plane (Bullet: btConeTwistConstraint without limits for the ball joints, as
 //   Inertia's ragdoll has none, btHingeConstraint with the same limits for the hinges).
@@ -74,9 +75,14 @@ Scene chainScene() {
   return s;
 }
 
+// As in Box2D's sample, the spheres are in category 2 and collide with every category but 2:
+// with nothing here. Only the joints act.
 Scene jointGridScene() {
-  return {"joint_grid", jointGrid({.material = material()}), false, BulletBall::PointToPoint,
+  Scene s{"joint_grid", jointGrid({.material = material()}), false, BulletBall::PointToPoint,
           false};
+  for (BodyDesc& body : s.assembly.bodies)
+    for (ShapeDesc& shape : body.shapes) shape.filter = {.category = 2, .mask = ~2u};
+  return s;
 }
 
 Scene ragdollScene() {

@@ -89,11 +89,13 @@ class BulletWorld {
     const btScalar mass = isStatic ? 0 : btScalar(double(s.material.density) * volume(s.shape));
     return add(shape, mass,
                btTransform(bt(d.settings.orientation.normalized()), bt(d.settings.position)),
-               s.material);
+               s.material, s.filter);
   }
-  /// A body of `shape` (taken over), static when `mass` is 0.
+  /// A body of `shape` (taken over), static when `mass` is 0. A filter other than the default
+  /// becomes Bullet's filter group and mask (the same rule: each one's bits meet the other's
+  /// mask); Bullet has no group index, so `filter.group` must be 0.
   btRigidBody* add(btCollisionShape* shape, btScalar mass, const btTransform& pose,
-                   const inertia::Material& m) {
+                   const inertia::Material& m, const inertia::CollisionFilter& filter = {}) {
     shapes_.emplace_back(shape);
     btVector3 inertia(0, 0, 0);
     if (mass > 0) shape->calculateLocalInertia(mass, inertia);
@@ -105,7 +107,15 @@ class BulletWorld {
     info.m_restitution = btScalar(m.restitution);
     bodies_.push_back(std::make_unique<btRigidBody>(info));
     if (mass > 0) bodies_.back()->setActivationState(DISABLE_DEACTIVATION);
-    world_.addRigidBody(bodies_.back().get());
+    if (filter == inertia::CollisionFilter{}) {
+      world_.addRigidBody(bodies_.back().get());
+    } else {
+      if (filter.group != 0) {
+        std::fprintf(stderr, "peers: Bullet has no collision group index\n");
+        std::exit(1);
+      }
+      world_.addRigidBody(bodies_.back().get(), int(filter.category), int(filter.mask));
+    }
     return bodies_.back().get();
   }
   void add(std::unique_ptr<btTypedConstraint> c, bool collideConnected) {

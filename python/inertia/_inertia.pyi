@@ -382,6 +382,12 @@ class World:
                   position: Optional[Vec3Like] = None,
                   orientation: Optional[QuatLike] = None) -> ShapeId: ...
     def remove_shape(self, shape: ShapeId) -> None: ...
+    def set_filter(self, shape: ShapeId, *, category: int = 1, mask: int = 0xFFFFFFFF,
+                   group: int = 0) -> None:
+        """Box2D's rule: the same non-zero group always collides (> 0) or never (< 0);
+        otherwise each one's category bits must meet the other's mask."""
+    def filter(self, shape: ShapeId) -> tuple[int, int, int]:
+        """(category, mask, group)"""
     @overload
     def is_valid(self, id: BodyId) -> bool: ...
     @overload

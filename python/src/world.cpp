@@ -382,6 +382,25 @@ void bindWorld(py::module_& m) {
       .def(
           "remove_shape", [](PyWorld& w, ShapeId s) { w->rigidBodies().removeShape(s); },
           py::arg("shape"))
+      .def(
+          "set_filter",
+          [](PyWorld& w, ShapeId s, std::uint32_t category, std::uint32_t mask,
+             std::int32_t group) {
+            w->rigidBodies().setFilter(s, {category, mask, group});
+          },
+          py::arg("shape"), py::kw_only(), py::arg("category") = 1, py::arg("mask") = 0xFFFFFFFFu,
+          py::arg("group") = 0,
+          "Which shapes this one collides with, from the next step (wakes its body): two "
+          "shapes of the same non-zero group always collide when it is positive and never when "
+          "it is negative; otherwise each one's category bits must meet the other's mask "
+          "(32-bit unsigned).")
+      .def(
+          "filter",
+          [](const PyWorld& w, ShapeId s) {
+            const CollisionFilter f = w->rigidBodies().filter(s);
+            return py::make_tuple(f.category, f.mask, f.group);
+          },
+          py::arg("shape"), "The shape's collision filter as (category, mask, group).")
       .def("is_valid", [](const PyWorld& w, BodyId id) { return w->isValid(id); })
       .def("is_valid", [](const PyWorld& w, JointId id) { return w->isValid(id); })
       .def("is_valid", [](const PyWorld& w, ParticleSystemId id) { return w->isValid(id); })

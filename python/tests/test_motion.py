@@ -93,3 +93,22 @@ def test_forces_and_impulses_change_momentum_by_their_impulse():
     world.apply_force(body, (0, 16, 0))  # 16 N over one step of 1/60 s: 2/60 m/s
     world.step()
     np.testing.assert_allclose(world.linear_momentum(), (8, 16 / 60, 0), rtol=1e-6)
+
+
+def test_filtered_ball_falls_through_the_ground_as_in_free_fall():
+    # The ground in category 4, the ball's mask without it: no contact, so the ball follows
+    # the free fall's symplectic Euler closed form of the test above (its bound: 9e-4 m).
+    g, dt, substeps, steps = -9.81, 1 / 60, 4, 60
+    world = inertia.World(gravity=(0, g, 0), dt=dt, substeps=substeps)
+    ground = world.create_body(type="static")
+    world.set_filter(world.add_shape(ground, inertia.Plane((0, 1, 0), 0)), category=4)
+    ball = world.create_body(position=(0, 1, 0))
+    shape = world.add_shape(ball, inertia.Sphere(0.5))
+    world.set_filter(shape, mask=0xFFFFFFFF & ~4)
+    assert world.filter(shape) == (1, 0xFFFFFFFB, 0)
+    for _ in range(steps):
+        world.step()
+    t, tau = world.time, np.float32(dt) / substeps
+    assert world.position(ball)[1] == pytest.approx(1 + g * t * t / 2 + g * t * tau / 2, abs=9e-4)
+    with pytest.raises(TypeError):
+        world.set_filter(shape, category=-1)

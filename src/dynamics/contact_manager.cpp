@@ -100,6 +100,7 @@ void refreshFrames(Data& D, Real dt, const ContactTuning& tuning, StepWorkers& w
                             b.fast,
                             jointed,
                             b.group,
+                            D.shapes[si].filter,
                             D.shapes[si].radius};
           if (b.type == BodyType::Static || !b.awake) continue;
           const Vec3 displacement = b.v * dt;
@@ -234,6 +235,7 @@ void updateBroadPhase(RigidBodyData& D, Real dt, const ContactTuning& tuning,
     if (fa.jointed && fb.jointed && D.jointPrevents(fa.body, fb.body)) return;
     // The links of one articulation do not collide with each other.
     if (fa.group >= 0 && fa.group == fb.group) return;
+    if (!shouldCollide(fa.filter, fb.filter)) return;
     out.emplace_back(a, b);
   };
   // Last step's pairs whose fat boxes still overlap, and their shape pairs, in one pass; then

@@ -87,6 +87,7 @@ struct ShapeRecord {
   Transform local;
   bool atOrigin = true;  // local is the identity
   Material material;
+  CollisionFilter filter;
   int proxy = BroadPhase::kNull;  // none for planes
   // A sphere about the shape's origin that holds the shape (m); infinite for a plane.
   Real radius = std::numeric_limits<Real>::infinity();
@@ -289,6 +290,7 @@ struct RigidBodyData {
     bool fast = false;     // its body is continuous this step (BodyRecord::fast)
     bool jointed = false;  // its body has an enabled joint whose bodies do not collide
     int group = -1;        // its body's multibody group (BodyRecord::group)
+    CollisionFilter filter;  // ShapeRecord::filter
     Real radius = std::numeric_limits<Real>::infinity();  // ShapeRecord::radius
   };
   std::vector<ShapeFrame> frames;

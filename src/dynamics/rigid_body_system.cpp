@@ -337,6 +337,7 @@ ShapeId RigidBodySystem::addShape(BodyId bodyId, const Collider& collider, const
   s.local = {local.p, local.q.normalized()};
   s.atOrigin = s.local.p == Vec3::Zero() && s.local.q.coeffs() == Quat::Identity().coeffs();
   s.material = material;
+  s.filter = {};
   s.proxy = BroadPhase::kNull;
   s.radius = std::numeric_limits<Real>::infinity();
   if (type != ShapeType::Plane) {
@@ -389,6 +390,24 @@ BodyType RigidBodySystem::type(BodyId id) const { return d_->body(id).type; }
 std::string_view RigidBodySystem::name(BodyId id) const { return d_->body(id).name; }
 bool RigidBodySystem::isAwake(BodyId id) const { return d_->body(id).awake; }
 BodyId RigidBodySystem::body(ShapeId id) const { return d_->bodyId(d_->shape(id).body); }
+
+// Pairs are filtered as the broad phase hands them on, every step: the new filter holds from
+// the next step. The body wakes, so that a sleeping pair the filter now lets touch is found,
+// and so do the bodies the shape touches (a static shape's body cannot wake), so that what it
+// no longer holds up falls.
+void RigidBodySystem::setFilter(ShapeId id, const CollisionFilter& filter) {
+  Data& D = *d_;
+  ShapeRecord& s = D.shape(id);
+  if (s.filter == filter) return;
+  s.filter = filter;
+  D.wake(D.bodies[s.body]);
+  for (const ContactInfo& c : D.contacts)
+    if (c.shapeA.index == id.index || c.shapeB.index == id.index) {
+      D.wake(D.bodies[D.shapes[c.shapeA.index].body]);
+      D.wake(D.bodies[D.shapes[c.shapeB.index].body]);
+    }
+}
+CollisionFilter RigidBodySystem::filter(ShapeId id) const { return d_->shape(id).filter; }
 
 void RigidBodySystem::setTransform(BodyId id, const Transform& pose) {
   require(allFinite(pose.p) && allFinite(pose.q) && pose.q.norm() > Real(1e-6),

@@ -59,13 +59,27 @@ std::optional<Vec3> readColor(const Node& owner) {
   return rgb;
 }
 
+// "filter": {"category": bits, "mask": bits, "group": integer}, each optional (body.h).
+CollisionFilter readFilter(const Node& owner) {
+  CollisionFilter f;
+  if (!owner.has("filter")) return f;
+  Node n = owner.at("filter");
+  n.requireObject({"category", "mask", "group"});
+  constexpr long long kBits = 0xFFFFFFFFll, kGroup = 0x7FFFFFFFll;
+  if (n.has("category")) f.category = std::uint32_t(n.at("category").integer(0, kBits));
+  if (n.has("mask")) f.mask = std::uint32_t(n.at("mask").integer(0, kBits));
+  if (n.has("group")) f.group = std::int32_t(n.at("group").integer(-kGroup, kGroup));
+  return f;
+}
+
 // A shape with its material; checks what a body of `type` may carry.
 ShapeDesc readBodyShape(const Node& n, BodyType type, const MaterialTable& table,
                         const Material& bodyMaterial) {
   ShapeDesc d;
-  d.shape = readShape(n, d.local, {"material", "color"});
+  d.shape = readShape(n, d.local, {"material", "color", "filter"});
   d.material = readMaterialRef(n, table, bodyMaterial);
   d.color = readColor(n);
+  d.filter = readFilter(n);
   const ShapeType st = d.shape.type();
   if ((st == ShapeType::Plane || st == ShapeType::HeightField) && type != BodyType::Static)
     n.fail(std::string(st == ShapeType::Plane ? "a plane" : "a height field") +

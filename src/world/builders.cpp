@@ -104,7 +104,10 @@ Quat yTo(const Vec3& up) { return Quat::FromTwoVectors(Vec3::UnitY(), up).normal
 
 BodyId addBody(World& world, const BodyDesc& desc) {
   const BodyId id = world.createBody(desc.settings);
-  for (const ShapeDesc& s : desc.shapes) world.addShape(id, s.shape, s.material, s.local);
+  for (const ShapeDesc& s : desc.shapes) {
+    const ShapeId shape = world.addShape(id, s.shape, s.material, s.local);
+    if (s.filter != CollisionFilter{}) world.rigidBodies().setFilter(shape, s.filter);
+  }
   return id;
 }
 
@@ -155,7 +158,8 @@ std::vector<BodyDesc> wall(const WallSettings& s) {
 
 std::vector<BodyDesc> grid(const GridSettings& s) {
   for (int k = 0; k < 3; ++k) requireCount(s.counts[std::size_t(k)], "GridSettings::counts");
-  require(allFinite(s.spacing) && allFinite(s.origin), "GridSettings: spacing and origin must be finite");
+  require(allFinite(s.spacing) && allFinite(s.origin),
+          "GridSettings: spacing and origin must be finite");
   std::vector<BodyDesc> out;
   for (int y = 0; y < s.counts[1]; ++y)
     for (int z = 0; z < s.counts[2]; ++z)

@@ -27,7 +27,7 @@ bool bodyTypeFromName(std::string_view name, BodyType& out);
 
 /// The surface and bulk properties of a shape (the seeds' VirtualPhysics material).
 struct Material {
-  Real density = 1000;   ///< Mass per volume (kg/m^3), > 0; gives the body's mass.
+  Real density = 1000;        ///< Mass per volume (kg/m^3), > 0; gives the body's mass.
   Real friction = Real(0.6);  ///< Static Coulomb friction coefficient (>= 0).
   /// Dynamic (sliding) Coulomb friction coefficient (>= 0); negative means "same as friction".
   Real dynamicFriction = -1;
@@ -45,6 +45,24 @@ struct Material {
 
 /// Checks a material and throws InvalidArgument naming the first bad field.
 void validate(const Material& material);
+
+/// Which shapes may touch, as Box2D's b2Filter: two shapes in the same non-zero `group` always
+/// collide when the group is positive and never when it is negative; otherwise they collide
+/// when each one's `category` bits meet the other's `mask`. The default collides with
+/// everything. It applies between bodies' shapes; particles and deformables meet every shape.
+struct CollisionFilter {
+  std::uint32_t category = 1;        ///< The categories (bits) the shape belongs to.
+  std::uint32_t mask = 0xFFFFFFFFu;  ///< The categories it collides with.
+  std::int32_t group = 0;            ///< 0: none; > 0 always, < 0 never within the group.
+
+  bool operator==(const CollisionFilter&) const = default;
+};
+
+/// Whether filters a and b let their shapes collide (symmetric).
+constexpr bool shouldCollide(const CollisionFilter& a, const CollisionFilter& b) {
+  if (a.group != 0 && a.group == b.group) return a.group > 0;
+  return (a.mask & b.category) != 0 && (b.mask & a.category) != 0;
+}
 
 /// The range of a dynamic body's mass (kg) and principal moments of inertia (kg m^2) that Real
 /// can simulate: 2^24 inside the normal range of Real both ways, so that their inverses, and
@@ -82,15 +100,15 @@ struct MaterialCombine {
 /// world.createBody({.position = {0, 5, 0}}).
 struct BodySettings {
   BodyType type = BodyType::Dynamic;
-  Vec3 position = Vec3::Zero();            ///< Position of the body's origin (m, world).
-  Quat orientation = Quat::Identity();     ///< Unit quaternion (normalised on creation).
-  Vec3 linearVelocity = Vec3::Zero();      ///< Velocity of the centre of mass (m/s, world).
-  Vec3 angularVelocity = Vec3::Zero();     ///< Angular velocity (rad/s, world).
-  Real linearDamping = 0;   ///< Viscous damping of the linear velocity (1/s, >= 0).
-  Real angularDamping = 0;  ///< Viscous damping of the angular velocity (1/s, >= 0).
-  Real gravityScale = 1;    ///< Multiplies the world's gravity for this body.
-  Real maxLinearSpeed = 400;   ///< Speed limit of the centre of mass (m/s, > 0).
-  Real maxAngularSpeed = 200;  ///< Limit of the angular speed (rad/s, > 0).
+  Vec3 position = Vec3::Zero();         ///< Position of the body's origin (m, world).
+  Quat orientation = Quat::Identity();  ///< Unit quaternion (normalised on creation).
+  Vec3 linearVelocity = Vec3::Zero();   ///< Velocity of the centre of mass (m/s, world).
+  Vec3 angularVelocity = Vec3::Zero();  ///< Angular velocity (rad/s, world).
+  Real linearDamping = 0;               ///< Viscous damping of the linear velocity (1/s, >= 0).
+  Real angularDamping = 0;              ///< Viscous damping of the angular velocity (1/s, >= 0).
+  Real gravityScale = 1;                ///< Multiplies the world's gravity for this body.
+  Real maxLinearSpeed = 400;            ///< Speed limit of the centre of mass (m/s, > 0).
+  Real maxAngularSpeed = 200;           ///< Limit of the angular speed (rad/s, > 0).
   /// Mass (kg); 0 takes it from the shapes' densities. When given, the shapes' inertia is
   /// scaled to it (or `inertia` is used).
   Real mass = 0;

@@ -175,6 +175,11 @@ class RigidBodySystem {
   ShapeId addShape(BodyId body, const Collider& collider, const Material& material = {},
                    const Transform& local = {});
   void removeShape(ShapeId shape);
+  /// Which shapes this one collides with (body.h); from the next step, and wakes its body.
+  /// New shapes collide with everything. Joints' collideConnected and an articulation's own
+  /// links are filtered besides.
+  void setFilter(ShapeId shape, const CollisionFilter& filter);
+  CollisionFilter filter(ShapeId shape) const;
 
   // State of a body (all in world coordinates).
   Transform transform(BodyId id) const;       ///< Pose of the body's origin.

@@ -25,6 +25,7 @@ struct ShapeDesc {
   Shape shape = Sphere{Real(0.5)};
   Material material{};
   Transform local{};  ///< Relative to the body's origin.
+  CollisionFilter filter{};  ///< Which shapes it collides with (body.h).
   /// Drawing colour (rgb, 0..1) from the scene's "color"; the simulation ignores it.
   std::optional<Vec3> color{};
 };
