@@ -36,6 +36,10 @@ Result run(const std::string& args, const std::string& environment = "") {
   return r;
 }
 
+}  // namespace
+
+// Outside the anonymous namespace: the tests derive from it, and in a unity batch, which
+// includes this file, GCC rejects a base of internal linkage (-Wsubobject-linkage).
 class Cli : public testing::Test {
  protected:
   void SetUp() override {
@@ -60,6 +64,8 @@ class Cli : public testing::Test {
 
   fs::path dir_;
 };
+
+namespace {
 
 const char* kGood = R"({"world": {"dt": 0.01, "substeps": 2}})";
 

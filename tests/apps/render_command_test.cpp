@@ -25,7 +25,7 @@ const char* kFallingBall = R"({
   ]
 })";
 
-struct Png : test::PngImage {
+struct RenderedPng : test::PngImage {
   double lumaVariance() const {
     double sum = 0, sum2 = 0;
     const std::size_t n = rgb.size() / 3;
@@ -70,7 +70,7 @@ TEST_F(Render, PngHasTheRequestedSizeAndIsNotBlank) {
   const std::string scene = write("ball.json", kFallingBall);
   CliResult r = runCli("render " + scene + " --out " + path("f.png") + " --size 160x120 --time 0");
   ASSERT_EQ(r.code, 0) << r.output;
-  Png png;
+  RenderedPng png;
   ASSERT_TRUE(png.load(path("f.png")));
   EXPECT_EQ(png.width, 160);
   EXPECT_EQ(png.height, 120);
@@ -90,7 +90,7 @@ TEST_F(Render, FallingBallMovesDownTheImage) {
   ASSERT_EQ(
       runCli("render " + scene + " -q --out " + path("b.png") + " --size 160x120 --time 0.6").code,
       0);
-  Png a, b;
+  RenderedPng a, b;
   ASSERT_TRUE(a.load(path("a.png")));
   ASSERT_TRUE(b.load(path("b.png")));
   const double rowA = a.redRow(), rowB = b.redRow();
@@ -135,7 +135,7 @@ TEST_F(Render, SceneWithoutCameraIsFramed) {
                                                     "color": [1, 0, 0]}]}]})");
   ASSERT_EQ(runCli("render " + scene + " --out " + path("f.png") + " --size 96x72 --time 0").code,
             0);
-  Png png;
+  RenderedPng png;
   ASSERT_TRUE(png.load(path("f.png")));
   int red = 0;
   png.redRow(&red);

@@ -21,7 +21,7 @@ std::string scene(const std::string& name) {
   return std::string(root ? root : ".") + "/scenes/" + name;
 }
 
-struct Png : test::PngImage {
+struct ScreenshotPng : test::PngImage {
   // Pixels in [x0, x1) x [y0, y1) whose channels spread by more than 60 (coloured boxes, not
   // the grey ground, the pale sky or the dark panel).
   int colourful(int x0, int y0, int x1, int y1) const {
@@ -90,7 +90,7 @@ TEST_F(ViewCommand, ScreenshotUnderXvfbShowsTheScene) {
                                  " --frames 30 --size 320x240 --no-panel --screenshot " + shot,
                              xvfb);
   ASSERT_EQ(r.code, 0) << r.output;
-  Png png;
+  ScreenshotPng png;
   ASSERT_TRUE(png.load(shot)) << r.output;
   EXPECT_EQ(png.width, 320);
   EXPECT_EQ(png.height, 240);
@@ -107,7 +107,7 @@ TEST_F(ViewCommand, ScreenshotUnderXvfbShowsTheScene) {
                    xvfb)
                 .code,
             0);
-  Png panel;
+  ScreenshotPng panel;
   ASSERT_TRUE(panel.load(withPanel));
   const std::uint8_t* p = panel.at(40, 40);
   EXPECT_LT(int(p[0]) + p[1] + p[2], 200) << "panel not drawn";

@@ -10,14 +10,14 @@
 #include <cstdio>
 #include <limits>
 
+#include "../epsilon.h"
 #include "inertia/articulation/builders.h"
 #include "inertia/articulation/dynamics.h"
 
 using namespace inertia::articulation;
+using inertia::test::kDoubleEps;
 
 namespace {
-
-constexpr double kEps = std::numeric_limits<double>::epsilon();
 
 // The 2-norm condition number of a symmetric positive definite matrix.
 double condition(const MatrixX<double>& H) {
@@ -29,7 +29,7 @@ double condition(const MatrixX<double>& H) {
 // levels deep; perturbation theory bounds their relative difference by kappa(H) times their
 // relative backward errors, O(n eps) each. 16 covers the handful of roundings per level.
 double solveTolerance(const MatrixX<double>& H) {
-  return 16 * double(H.rows()) * condition(H) * kEps;
+  return 16 * double(H.rows()) * condition(H) * kDoubleEps;
 }
 
 struct Case {
@@ -95,7 +95,7 @@ TEST(Algorithms, MassMatrixIsSymmetricPositiveDefiniteWithKineticEnergy) {
       const double T = kineticEnergy(c.model, c.q, c.qd);
       // Two sums of the same n positive terms, ordered differently: a few n eps relative.
       EXPECT_NEAR(c.qd.dot(H * c.qd), 2 * T,
-                  8 * double(H.rows()) * kEps * H.norm() * c.qd.squaredNorm());
+                  8 * double(H.rows()) * kDoubleEps * H.norm() * c.qd.squaredNorm());
     }
   }
 }
@@ -109,7 +109,7 @@ TEST(Algorithms, MassMatrixColumnsAreRneaResponses) {
   const VectorX<double> zero = VectorX<double>::Zero(c.model.nv());
   for (int k = 0; k < c.model.nv(); ++k) {
     const VectorX<double> col = rnea(c.model, c.q, zero, VectorX<double>::Unit(c.model.nv(), k));
-    EXPECT_LT((col - H.col(k)).norm(), 64 * kEps * H.norm()) << "column " << k;
+    EXPECT_LT((col - H.col(k)).norm(), 64 * kDoubleEps * H.norm()) << "column " << k;
   }
 }
 
@@ -123,8 +123,8 @@ TEST(Algorithms, SimplePendulumMatchesItsEquationOfMotion) {
     q << theta;
     qd << 0.7;
     const double expected = -m * g * l * std::sin(theta) / (m * l * l + I);
-    EXPECT_NEAR(aba(model, q, qd, tau)(0), expected, 16 * kEps * g / l);
-    EXPECT_NEAR(forwardDynamicsCrba(model, q, qd, tau)(0), expected, 16 * kEps * g / l);
+    EXPECT_NEAR(aba(model, q, qd, tau)(0), expected, 16 * kDoubleEps * g / l);
+    EXPECT_NEAR(forwardDynamicsCrba(model, q, qd, tau)(0), expected, 16 * kDoubleEps * g / l);
   }
 }
 
@@ -153,7 +153,7 @@ TEST(Algorithms, DoublePendulumMatchesItsEquationsOfMotion) {
     const VectorX<double> qdd = aba(model, q, qd, VectorX<double>::Zero(2));
     // The closed form's own 2x2 solve and the recursions: kappa(M) eps relative.
     const double JacobiCond = M.norm() * M.inverse().norm();
-    const double tol = 64 * JacobiCond * kEps * (rhs.norm() / (m * l * l) + 1);
+    const double tol = 64 * JacobiCond * kDoubleEps * (rhs.norm() / (m * l * l) + 1);
     EXPECT_NEAR(qdd(0), tdd(0), tol);
     EXPECT_NEAR(qdd(1), tdd(1) - tdd(0), tol);
   }

@@ -16,8 +16,6 @@ using namespace inertia::articulation;
 
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
-
 template <class S>
 S totalEnergy(const Articulation<S>& a) {
   return kineticEnergy(a.model(), a.q(), a.qd()) + potentialEnergy(a.model(), a.q());

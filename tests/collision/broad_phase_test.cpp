@@ -11,18 +11,15 @@
 #include <set>
 #include <vector>
 
+#include "collision_test_util.h"
 #include "inertia/core/error.h"
 
 using namespace inertia;
+using inertia::test::randomAabb;
 
 namespace {
 
-using Pairs = std::vector<ProxyPair>;
-
-Aabb randomBox(std::mt19937& rng, Real extent, Real maxHalf) {
-  std::uniform_real_distribution<Real> c(-extent, extent), h(Real(0.05), maxHalf);
-  return Aabb::fromCenterHalfExtents(Vec3(c(rng), c(rng), c(rng)), Vec3(h(rng), h(rng), h(rng)));
-}
+using ProxyPairs = std::vector<ProxyPair>;
 
 ProxyType randomType(std::mt19937& rng) {
   const unsigned r = rng() % 10;
@@ -35,7 +32,8 @@ bool pairable(const BroadPhase& bp, int i, int j) {
 
 // The oracle: every pair of live proxies, at least one dynamic, fat boxes overlapping, and
 // (unless `moved` is null) at least one of them in `moved`.
-Pairs bruteForce(const BroadPhase& bp, const std::vector<int>& live, const std::set<int>* moved) {
+ProxyPairs bruteForceOverlaps(const BroadPhase& bp, const std::vector<int>& live,
+                              const std::set<int>* moved) {
   struct Entry {
     int id;
     Aabb box;
@@ -45,7 +43,7 @@ Pairs bruteForce(const BroadPhase& bp, const std::vector<int>& live, const std::
   for (const int id : live)
     e.push_back({id, bp.fatAabb(id), bp.type(id) == ProxyType::Dynamic,
                  moved == nullptr || moved->count(id) > 0});
-  Pairs out;
+  ProxyPairs out;
   for (std::size_t a = 0; a < e.size(); ++a)
     for (std::size_t b = a + 1; b < e.size(); ++b) {
       if (!(e[a].moved || e[b].moved) || !(e[a].dynamic || e[b].dynamic)) continue;
@@ -75,16 +73,16 @@ TEST(BroadPhase, PairsMatchBruteForceOverRandomUpdates) {
   };
   std::set<int> moved;
   auto create = [&] {
-    const Aabb b = randomBox(rng, 15, 1);
+    const Aabb b = randomAabb(rng, 15, 1);
     const int id = bp.createProxy(b, randomType(rng), static_cast<std::uint32_t>(rng()));
     setTight(id, b);
     live.push_back(id);
     moved.insert(id);
   };
   for (int i = 0; i < 600; ++i) create();
-  Pairs pairs, kept;
+  ProxyPairs pairs, kept;
   bp.updatePairs(pairs);
-  EXPECT_EQ(pairs, bruteForce(bp, live, &moved));
+  EXPECT_EQ(pairs, bruteForceOverlaps(bp, live, &moved));
   kept = pairs;
   moved.clear();
   EXPECT_EQ(bp.movedCount(), 0u);
@@ -133,7 +131,7 @@ TEST(BroadPhase, PairsMatchBruteForceOverRandomUpdates) {
       bp.clearMoved();
       std::sort(pairs.begin(), pairs.end());
     }
-    ASSERT_EQ(pairs, bruteForce(bp, live, &moved)) << "round " << round;
+    ASSERT_EQ(pairs, bruteForceOverlaps(bp, live, &moved)) << "round " << round;
     ASSERT_TRUE(std::is_sorted(pairs.begin(), pairs.end()));
     reported += pairs.size();
     moved.clear();
@@ -144,11 +142,11 @@ TEST(BroadPhase, PairsMatchBruteForceOverRandomUpdates) {
       return !liveSet.count(p.a) || !liveSet.count(p.b) || !pairable(bp, p.a, p.b) ||
              !bp.testOverlap(p.a, p.b);
     });
-    Pairs merged;
+    ProxyPairs merged;
     std::set_union(kept.begin(), kept.end(), pairs.begin(), pairs.end(),
                    std::back_inserter(merged));
     kept = merged;
-    ASSERT_EQ(kept, bruteForce(bp, live, nullptr)) << "round " << round;
+    ASSERT_EQ(kept, bruteForceOverlaps(bp, live, nullptr)) << "round " << round;
   }
   EXPECT_GT(reported, 1000u);
   EXPECT_GT(staticMoves, 10u);
@@ -169,9 +167,9 @@ TEST(BroadPhase, PairRulesByType) {
   const int k1 = bp.createProxy(box, ProxyType::Kinematic);
   const int k2 = bp.createProxy(box, ProxyType::Kinematic);
   const int d1 = bp.createProxy(box, ProxyType::Dynamic);
-  Pairs pairs;
+  ProxyPairs pairs;
   bp.updatePairs(pairs);
-  EXPECT_EQ(pairs, (Pairs{{s1, d1}, {s2, d1}, {k1, d1}, {k2, d1}}));
+  EXPECT_EQ(pairs, (ProxyPairs{{s1, d1}, {s2, d1}, {k1, d1}, {k2, d1}}));
   bp.updatePairs(pairs);
   EXPECT_TRUE(pairs.empty());
   // A small move inside the fat box is not a move.
@@ -182,7 +180,7 @@ TEST(BroadPhase, PairRulesByType) {
   EXPECT_TRUE(
       bp.moveProxy(s1, Aabb::fromCenterHalfExtents(Vec3(Real(0.5), 0, 0), Vec3::Constant(1))));
   bp.updatePairs(pairs);
-  EXPECT_EQ(pairs, (Pairs{{s1, d1}}));
+  EXPECT_EQ(pairs, (ProxyPairs{{s1, d1}}));
   // Destroying a moved proxy removes it from the move buffer.
   bp.setType(k2, ProxyType::Dynamic);
   bp.destroyProxy(k2);
@@ -204,7 +202,7 @@ TEST(BroadPhase, PairsIndependentOfHistory) {
   std::vector<Aabb> boxes;
   std::vector<ProxyType> types;
   for (int i = 0; i < n; ++i) {
-    boxes.push_back(randomBox(rng, 10, 1));
+    boxes.push_back(randomAabb(rng, 10, 1));
     types.push_back(randomType(rng));
   }
   BroadPhase a, b;
@@ -213,11 +211,11 @@ TEST(BroadPhase, PairsIndependentOfHistory) {
   for (int i = 0; i < n; ++i) ASSERT_EQ(b.createProxy(far, types[i]), i);
   std::vector<int> extra;
   for (int i = 0; i < 100; ++i)
-    extra.push_back(b.createProxy(randomBox(rng, 10, 1), randomType(rng)));
+    extra.push_back(b.createProxy(randomAabb(rng, 10, 1), randomType(rng)));
   std::vector<int> order(n);
   for (int i = 0; i < n; ++i) order[i] = i;
   std::shuffle(order.begin(), order.end(), rng);
-  Pairs pa, pb;
+  ProxyPairs pa, pb;
   b.updatePairs(pb);  // flush the creation moves
   for (const int i : order) ASSERT_TRUE(b.moveProxy(i, boxes[i]));
   for (const int id : extra) b.destroyProxy(id);
@@ -237,13 +235,13 @@ TEST(BroadPhase, QueriesAndRayCastsMatchBruteForce) {
   BroadPhase bp;
   std::vector<Aabb> tight;
   for (int i = 0; i < 500; ++i) {
-    tight.push_back(randomBox(rng, 20, 2));
+    tight.push_back(randomAabb(rng, 20, 2));
     ASSERT_EQ(bp.createProxy(tight.back(), randomType(rng), 7), i);
   }
   const int n = static_cast<int>(tight.size());
   std::size_t hits = 0, closestHits = 0;
   for (int q = 0; q < 200; ++q) {
-    const Aabb box = randomBox(rng, 20, 4);
+    const Aabb box = randomAabb(rng, 20, 4);
     std::set<int> got, want;
     bp.query(box, [&](int id) { got.insert(id); });
     for (int i = 0; i < n; ++i)

@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "inertia/collision/contact.h"
 #include "inertia/collision/queries.h"
 #include "inertia/core/types.h"
 #include "inertia/geometry/geometry.h"
@@ -41,6 +42,39 @@ inline ConvexHull randomHull(std::mt19937_64& rng, int n, double size) {
     pts.push_back(Real(size) * randomVec(rng, -1, 1).cwiseProduct(stretch));
   return ConvexHull(pts);
 }
+/// A random box: centre in [-extent, extent]^3, half extents in [0.05, maxHalf].
+inline Aabb randomAabb(std::mt19937& rng, Real extent, Real maxHalf) {
+  std::uniform_real_distribution<Real> c(-extent, extent), h(Real(0.05), maxHalf);
+  return Aabb::fromCenterHalfExtents(Vec3(c(rng), c(rng), c(rng)), Vec3(h(rng), h(rng), h(rng)));
+}
+/// The eight corners of the box of half extents h, centred on the origin.
+inline std::vector<Vec3> boxCorners(const Vec3& h) {
+  std::vector<Vec3> v;
+  for (int i = 0; i < 8; ++i)
+    v.emplace_back((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z());
+  return v;
+}
+/// The pose at (x, y, z) turned by q.
+inline Transform at(double x, double y, double z, const Quat& q = Quat::Identity()) {
+  return {Vec3(Real(x), Real(y), Real(z)), q};
+}
+/// The rotation by `angle` (rad) about `axis` (normalised here).
+inline Quat axisAngle(double angle, const Vec3& axis) {
+  return Quat(Eigen::AngleAxis<Real>(Real(angle), axis.normalized()));
+}
+/// Every manifold collide() makes for the pair, with speculative distance `spec`.
+inline std::vector<ContactManifold> collideAll(const Collider& a, const Transform& pa,
+                                               const Collider& b, const Transform& pb,
+                                               Real spec = 0) {
+  std::vector<ContactManifold> out;
+  collide(a, pa, b, pb, ContactSettings{.speculativeDistance = spec}, out);
+  return out;
+}
+/// Contact points and separations: coordinates of a few metres pass through a handful of
+/// transforms (each a few ulps) and the clipping interpolation: 200 ulps of a 4 m coordinate,
+/// ~1e-4 m in float, ~2e-13 m in double.
+constexpr double kContactTol = 200 * kEps * 4;
+
 inline Vec3d toD(const Vec3& v) { return v.cast<double>(); }
 /// World -> local in double, from the (Real) pose.
 inline Vec3d toLocal(const Transform& pose, const Vec3& x) {

@@ -20,36 +20,11 @@ using namespace inertia::test;
 
 namespace {
 
-// Coordinates of a few metres pass through a handful of transforms (each a few ulps) and the
-// clipping interpolation: 200 ulps of a 4 m coordinate, ~1e-4 m in float, ~2e-13 m in double.
-const double kTol = 200 * kEps * 4;
-
-std::vector<Vec3> boxCorners(const Vec3& h) {
-  std::vector<Vec3> v;
-  for (int i = 0; i < 8; ++i)
-    v.emplace_back((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z());
-  return v;
-}
-
-// A random hull: points on an ellipsoid-ish cloud, some flat faces.
-ConvexHull randomHull(std::mt19937_64& rng, int n = 20) {
+// A random hull: the hull of n random points in the cube [-0.6, 0.6]^3.
+ConvexHull randomHullInCube(std::mt19937_64& rng, int n = 20) {
   std::vector<Vec3> pts;
   for (int i = 0; i < n; ++i) pts.push_back(randomVec(rng, -0.6, 0.6));
   return ConvexHull(pts);
-}
-
-std::vector<ContactManifold> collideAll(const Collider& a, const Transform& pa, const Collider& b,
-                                        const Transform& pb, Real spec = 0) {
-  std::vector<ContactManifold> out;
-  collide(a, pa, b, pb, ContactSettings{.speculativeDistance = spec}, out);
-  return out;
-}
-
-Transform at(double x, double y, double z, const Quat& q = Quat::Identity()) {
-  return {Vec3(Real(x), Real(y), Real(z)), q};
-}
-Quat axisAngle(double angle, const Vec3& axis) {
-  return Quat(Eigen::AngleAxis<Real>(Real(angle), axis.normalized()));
 }
 
 // Every point on both surfaces (point query distance ~0) and separation = (pB - pA) . n.
@@ -72,23 +47,23 @@ std::set<std::uint32_t> ids(const ContactManifold& m) {
 
 // Brute-force SAT oracle in double: the largest projected gap over the face normals of both
 // and the crosses of all edge pairs (parallel pairs skipped as the library does).
-struct Poly {
+struct SatPoly {
   std::vector<Vec3d> v, n, e;
 };
-Poly worldPoly(const detail::PolyView& view, const Transform& pose) {
-  Poly p;
+SatPoly worldPoly(const detail::PolyView& view, const Transform& pose) {
+  SatPoly p;
   for (int i = 0; i < view.vertexCount; ++i) p.v.push_back(toD(pose.apply(view.vertices[i])));
   for (int f = 0; f < view.faceCount; ++f) p.n.push_back(rotateD(pose, toD(view.faces[f].normal)));
   for (int e = 0; e < view.edgeCount; ++e) p.e.push_back(rotateD(pose, toD(view.edgeDirection(e))));
   return p;
 }
-double gap(const Poly& a, const Poly& b, const Vec3d& u) {
+double gap(const SatPoly& a, const SatPoly& b, const Vec3d& u) {
   double minA = 1e300, maxA = -1e300, minB = 1e300, maxB = -1e300;
   for (const auto& x : a.v) minA = std::min(minA, u.dot(x)), maxA = std::max(maxA, u.dot(x));
   for (const auto& x : b.v) minB = std::min(minB, u.dot(x)), maxB = std::max(maxB, u.dot(x));
   return std::max(minB - maxA, minA - maxB);
 }
-double bruteSeparation(const Poly& a, const Poly& b) {
+double bruteSeparation(const SatPoly& a, const SatPoly& b) {
   double best = -1e300;
   for (const auto& n : a.n) best = std::max(best, gap(a, b, n));
   for (const auto& n : b.n) best = std::max(best, gap(a, b, n));
@@ -120,8 +95,8 @@ TEST(Contact, BoxOnPlaneHasFourPointsAtTheSetDepth) {
   const ContactManifold& m = out[0];
   ASSERT_EQ(m.pointCount, 4);
   EXPECT_LE((m.normal - Vec3::UnitY()).norm(), 10 * kEps);
-  for (int k = 0; k < 4; ++k) EXPECT_NEAR(m.points[std::size_t(k)].separation, -depth, kTol);
-  expectOnSurfaces(m, plane, {}, box, pb, kTol);
+  for (int k = 0; k < 4; ++k) EXPECT_NEAR(m.points[std::size_t(k)].separation, -depth, kContactTol);
+  expectOnSurfaces(m, plane, {}, box, pb, kContactTol);
   EXPECT_EQ(ids(m).size(), 4u);
 }
 
@@ -170,11 +145,11 @@ TEST(Contact, RotatedBoxOnBoxClipsToTheSquaresIntersection) {
   double area = 0;
   for (int k = 0; k < 4; ++k) {
     const ContactPoint& p = m.points[std::size_t(k)];
-    EXPECT_NEAR(p.separation, -depth, kTol);
+    EXPECT_NEAR(p.separation, -depth, kContactTol);
     double best = 1e300;
     for (const auto& o : octagon) best = std::min(best, (o - Eigen::Vector2d(p.pointA.x(), p.pointA.z())).norm());
-    EXPECT_LE(best, kTol) << "point " << k << " is no vertex of the intersection";
-    EXPECT_NEAR(p.pointA.y(), 0.5, kTol);
+    EXPECT_LE(best, kContactTol) << "point " << k << " is no vertex of the intersection";
+    EXPECT_NEAR(p.pointA.y(), 0.5, kContactTol);
   }
   // Kept points span a large part of the octagon (area 0.83): a quadrilateral of its vertices,
   // its area by the shoelace formula after sorting the points by angle about their centroid.
@@ -190,7 +165,7 @@ TEST(Contact, RotatedBoxOnBoxClipsToTheSquaresIntersection) {
   for (int k = 0; k < 4; ++k)
     area += 0.5 * (quad[k].x() * quad[(k + 1) % 4].y() - quad[k].y() * quad[(k + 1) % 4].x());
   EXPECT_GT(std::abs(area), 0.6);
-  expectOnSurfaces(m, box, pa, box, pb, kTol);
+  expectOnSurfaces(m, box, pa, box, pb, kContactTol);
   EXPECT_EQ(ids(m).size(), 4u);
 }
 
@@ -203,9 +178,11 @@ TEST(Contact, CapsuleOnBoxLyingTwoPointsTiltedOne) {
   ASSERT_EQ(out.size(), 1u);
   ASSERT_EQ(out[0].pointCount, 2);
   EXPECT_LE((out[0].normal - Vec3::UnitY()).norm(), 10 * kEps);
-  for (int k = 0; k < 2; ++k) EXPECT_NEAR(out[0].points[std::size_t(k)].separation, -depth, kTol);
-  EXPECT_NEAR(std::abs(out[0].points[0].pointA.x() - out[0].points[1].pointA.x()), 1.2, kTol);
-  expectOnSurfaces(out[0], box, {}, cap, pc, kTol);
+  for (int k = 0; k < 2; ++k)
+    EXPECT_NEAR(out[0].points[std::size_t(k)].separation, -depth, kContactTol);
+  EXPECT_NEAR(std::abs(out[0].points[0].pointA.x() - out[0].points[1].pointA.x()), 1.2,
+              kContactTol);
+  expectOnSurfaces(out[0], box, {}, cap, pc, kContactTol);
   // Tilted by 30 degrees from lying: the lower end only, at depth r + h sin(30) - y.
   const double tilt = M_PI / 6, y = 0.5 + 0.2 + 0.6 * std::sin(tilt) - depth;
   pc = at(0.3, y, 0.1, axisAngle(M_PI / 2 - tilt, Vec3::UnitZ()));
@@ -213,8 +190,8 @@ TEST(Contact, CapsuleOnBoxLyingTwoPointsTiltedOne) {
   ASSERT_EQ(out.size(), 1u);
   ASSERT_EQ(out[0].pointCount, 1);
   EXPECT_LE((out[0].normal + Vec3::UnitY()).norm(), 10 * kEps);
-  EXPECT_NEAR(out[0].points[0].separation, -depth, kTol);
-  expectOnSurfaces(out[0], cap, pc, box, {}, kTol);
+  EXPECT_NEAR(out[0].points[0].separation, -depth, kContactTol);
+  expectOnSurfaces(out[0], cap, pc, box, {}, kContactTol);
 }
 
 TEST(Contact, HullOnHullRestsOnFourPoints) {
@@ -226,8 +203,9 @@ TEST(Contact, HullOnHullRestsOnFourPoints) {
   ASSERT_EQ(out.size(), 1u);
   ASSERT_EQ(out[0].pointCount, 4);
   EXPECT_LE((out[0].normal - Vec3::UnitY()).norm(), 100 * kEps);
-  for (int k = 0; k < 4; ++k) EXPECT_NEAR(out[0].points[std::size_t(k)].separation, -depth, kTol);
-  expectOnSurfaces(out[0], slab, pa, cube, pb, kTol);
+  for (int k = 0; k < 4; ++k)
+    EXPECT_NEAR(out[0].points[std::size_t(k)].separation, -depth, kContactTol);
+  expectOnSurfaces(out[0], slab, pa, cube, pb, kContactTol);
 }
 
 TEST(Contact, SphereOnEverythingOnePointAnalyticDepth) {
@@ -247,9 +225,10 @@ TEST(Contact, SphereOnEverythingOnePointAnalyticDepth) {
     const auto out = collideAll(shape, pose, sphere, ps);
     ASSERT_EQ(out.size(), 1u) << shapeTypeName(shape.type());
     ASSERT_EQ(out[0].pointCount, 1);
-    EXPECT_NEAR(out[0].points[0].separation, -depth, kTol) << shapeTypeName(shape.type());
+    EXPECT_NEAR(out[0].points[0].separation, -depth, kContactTol) << shapeTypeName(shape.type());
     EXPECT_LE((out[0].normal - Vec3::UnitY()).norm(), 100 * kEps) << shapeTypeName(shape.type());
-    if (shape.type() != ShapeType::Plane) expectOnSurfaces(out[0], shape, pose, sphere, ps, kTol);
+    if (shape.type() != ShapeType::Plane)
+      expectOnSurfaces(out[0], shape, pose, sphere, ps, kContactTol);
   }
 }
 
@@ -320,7 +299,7 @@ TEST(ContactSat, SeparationEqualsBruteForceForBoxesHullsAndTriangles) {
   int overlapping = 0;
   for (int k = 0; k < 3000; ++k) {
     detail::PolyStorage sa, sb;
-    const ConvexHull ha = randomHull(rng), hb = randomHull(rng);
+    const ConvexHull ha = randomHullInCube(rng), hb = randomHullInCube(rng);
     const Vec3 tri[3] = {randomVec(rng, -1, 1), randomVec(rng, -1, 1), randomVec(rng, -1, 1)};
     detail::PolyView a, b;
     switch (k % 4) {
@@ -347,10 +326,10 @@ TEST(ContactSat, SeparationEqualsBruteForceForBoxesHullsAndTriangles) {
     // distance, and the brute force tries axes (vertex directions) that bound it better than
     // the Minkowski faces do; both must report the pair apart.
     if (brute < 0) {
-      ASSERT_NEAR(sat, brute, kTol) << "case " << k << " kind " << k % 4;
+      ASSERT_NEAR(sat, brute, kContactTol) << "case " << k << " kind " << k % 4;
     } else {
-      ASSERT_LE(sat, brute + kTol) << "case " << k;
-      ASSERT_GT(sat, -kTol) << "case " << k;
+      ASSERT_LE(sat, brute + kContactTol) << "case " << k;
+      ASSERT_GT(sat, -kContactTol) << "case " << k;
     }
     overlapping += brute < 0;
   }
@@ -362,7 +341,7 @@ TEST(ContactSat, ManifoldDepthWithinTheHysteresisBandOfTheMinimumOverlap) {
   for (int k = 0; k < 2000; ++k) {
     const Collider a{Shape(Box{randomVec(rng, 0.2, 0.8)})};
     const Collider b = k % 2 ? Collider(Shape(Box{randomVec(rng, 0.2, 0.8)}))
-                             : Collider(Shape(randomHull(rng)));
+                             : Collider(Shape(randomHullInCube(rng)));
     const Transform pa = randomPose(rng, 0.4), pb = randomPose(rng, 0.4);
     detail::PolyStorage sa, sb;
     const detail::PolyView va = detail::makePolyView(a.shape().get<Box>(), sa);
@@ -371,21 +350,22 @@ TEST(ContactSat, ManifoldDepthWithinTheHysteresisBandOfTheMinimumOverlap) {
                                     : detail::makePolyView(b.shape().get<ConvexHull>());
     const double brute = bruteSeparation(worldPoly(va, pa), worldPoly(vb, pb));
     const auto out = collideAll(a, pa, b, pb);
-    if (brute > kTol) {
+    if (brute > kContactTol) {
       EXPECT_TRUE(out.empty());
       continue;
     }
-    if (brute > -kTol) continue;  // touching: either answer
+    if (brute > -kContactTol) continue;  // touching: either answer
     ASSERT_EQ(out.size(), 1u);
     // The normal's separation of the two shapes (projected gap) is within the band.
     const double along = gap(worldPoly(va, pa), worldPoly(vb, pb), toD(out[0].normal));
     // Two preferences chain (B's face over A's, then an edge over the face), each by at most
     // the relative and absolute tolerances.
     const double band = 2 * (double(detail::kAxisRelTolerance) * 1.1 * std::abs(brute) +
-                             double(detail::kAxisAbsTolerance)) + kTol;
-    EXPECT_LE(along, brute + kTol);
+                             double(detail::kAxisAbsTolerance)) +
+                        kContactTol;
+    EXPECT_LE(along, brute + kContactTol);
     EXPECT_GE(along, brute - band) << "case " << k;
-    expectOnSurfaces(out[0], a, pa, b, pb, kTol);
+    expectOnSurfaces(out[0], a, pa, b, pb, kContactTol);
     EXPECT_EQ(ids(out[0]).size(), std::size_t(out[0].pointCount));
   }
 }
@@ -394,9 +374,9 @@ TEST(ContactSat, ManifoldDepthWithinTheHysteresisBandOfTheMinimumOverlap) {
 
 namespace {
 std::vector<Collider> convexZoo(std::mt19937_64& rng) {
-  return {Collider(Shape(Sphere{Real(0.4)})),       Collider(Shape(Capsule{Real(0.3), Real(0.5)})),
-          Collider(Shape(Box{Vec3(Real(0.5), Real(0.3), Real(0.4))})), Collider(Shape(Cylinder{Real(0.4), Real(0.5)})),
-          Collider(Shape(randomHull(rng)))};
+  return {Collider(Shape(Sphere{Real(0.4)})), Collider(Shape(Capsule{Real(0.3), Real(0.5)})),
+          Collider(Shape(Box{Vec3(Real(0.5), Real(0.3), Real(0.4))})),
+          Collider(Shape(Cylinder{Real(0.4), Real(0.5)})), Collider(Shape(randomHullInCube(rng)))};
 }
 }  // namespace
 
@@ -497,10 +477,10 @@ TEST(Contact, PointsLieOnBothSurfacesForRandomPairs) {
             continue;
           }
         }
-        expectOnSurfaces(out[0], a, pa, b, pb, curved ? 2e-3 : kTol);
+        expectOnSurfaces(out[0], a, pa, b, pb, curved ? 2e-3 : kContactTol);
         ASSERT_EQ(ids(out[0]).size(), std::size_t(out[0].pointCount));
         for (int i = 0; i < out[0].pointCount; ++i)
-          ASSERT_LE(out[0].points[std::size_t(i)].separation, 0.05 + kTol);
+          ASSERT_LE(out[0].points[std::size_t(i)].separation, 0.05 + kContactTol);
         points += out[0].pointCount;
       }
   EXPECT_GT(points, 5000);
@@ -565,7 +545,7 @@ TEST(Contact, SpeculativeDistanceGatesSeparatedPairs) {
       double lowest = 1e300;
       for (int k = 0; k < out[0].pointCount; ++k) {
         lowest = std::min(lowest, double(out[0].points[std::size_t(k)].separation));
-        EXPECT_LE(out[0].points[std::size_t(k)].separation, 0.2 + kTol);
+        EXPECT_LE(out[0].points[std::size_t(k)].separation, 0.2 + kContactTol);
       }
       EXPECT_NEAR(lowest, gapSize, 1e-4);
     }
@@ -627,9 +607,9 @@ TEST(ContactTriangle, TriangleAgainstBoxMatchesTheHullOfTheSameTriangle) {
     for (int i = 0; i < m.pointCount; ++i) {
       const ContactPoint& p = m.points[std::size_t(i)];
       const TriangleClosest c = closestPointOnTriangle(p.pointA, tri[0], tri[1], tri[2]);
-      ASSERT_LE((c.point - p.pointA).norm(), kTol);
-      ASSERT_NEAR(queryPoint(box, pose, p.pointB).distance, 0, kTol);
-      ASSERT_LE(p.separation, kTol);
+      ASSERT_LE((c.point - p.pointA).norm(), kContactTol);
+      ASSERT_NEAR(queryPoint(box, pose, p.pointB).distance, 0, kContactTol);
+      ASSERT_LE(p.separation, kContactTol);
     }
   }
   EXPECT_GT(hits, 500);

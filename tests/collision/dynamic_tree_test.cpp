@@ -12,19 +12,15 @@
 #include <utility>
 #include <vector>
 
+#include "collision_test_util.h"
 #include "inertia/core/error.h"
 
 using namespace inertia;
+using inertia::test::randomAabb;
 
 namespace {
 
 using Pairs = std::vector<std::pair<int, int>>;
-
-// A random box: centre in [-extent, extent]^3, half extents in [0.05, maxHalf].
-Aabb randomBox(std::mt19937& rng, Real extent, Real maxHalf) {
-  std::uniform_real_distribution<Real> c(-extent, extent), h(Real(0.05), maxHalf);
-  return Aabb::fromCenterHalfExtents(Vec3(c(rng), c(rng), c(rng)), Vec3(h(rng), h(rng), h(rng)));
-}
 
 // The oracle: every pair of live proxies with at least one in `moved` whose fat boxes overlap.
 Pairs bruteForcePairs(const DynamicTree& tree, const std::vector<int>& live,
@@ -93,7 +89,7 @@ TEST(DynamicTree, PairsMatchBruteForceOverRandomUpdates) {
     tight[id] = b;
   };
   for (int i = 0; i < 500; ++i) {
-    const Aabb b = randomBox(rng, 20, 1);
+    const Aabb b = randomAabb(rng, 20, 1);
     const int id = tree.createProxy(b, static_cast<std::uint32_t>(1000 + i));
     setTight(id, b);
     live.push_back(id);
@@ -131,7 +127,7 @@ TEST(DynamicTree, PairsMatchBruteForceOverRandomUpdates) {
     }
     // Create a few (ids of destroyed proxies are reused).
     for (int k = 0; k < 10; ++k) {
-      const Aabb b = randomBox(rng, 20, 1);
+      const Aabb b = randomAabb(rng, 20, 1);
       const int id = tree.createProxy(b, 7);
       setTight(id, b);
       live.push_back(id);
@@ -158,7 +154,7 @@ TEST(DynamicTree, PairsMatchBruteForceOverRandomUpdates) {
 TEST(DynamicTree, PairsAreIndependentOfInsertionOrder) {
   std::mt19937 rng(3);
   std::vector<Aabb> boxes;
-  for (int i = 0; i < 300; ++i) boxes.push_back(randomBox(rng, 10, 1));
+  for (int i = 0; i < 300; ++i) boxes.push_back(randomAabb(rng, 10, 1));
   DynamicTree forward;
   std::vector<int> ids;
   for (std::size_t i = 0; i < boxes.size(); ++i)
@@ -211,14 +207,14 @@ TEST(DynamicTree, BoxQueriesMatchBruteForce) {
   std::mt19937 rng(11);
   DynamicTree tree;
   std::vector<int> live;
-  for (int i = 0; i < 1000; ++i) live.push_back(tree.createProxy(randomBox(rng, 30, 2), i));
+  for (int i = 0; i < 1000; ++i) live.push_back(tree.createProxy(randomAabb(rng, 30, 2), i));
   for (int i = 0; i < 200; i += 2) tree.destroyProxy(live[i]);
   live.erase(std::remove_if(live.begin(), live.end(), [&](int id) { return !tree.isProxy(id); }),
              live.end());
   tree.validate();
   std::size_t hits = 0;
   for (int q = 0; q < 300; ++q) {
-    const Aabb box = randomBox(rng, 30, 5);
+    const Aabb box = randomAabb(rng, 30, 5);
     std::vector<int> got;
     tree.query(box, [&](int id) { got.push_back(id); });
     std::vector<int> want;
@@ -242,7 +238,7 @@ TEST(DynamicTree, RayCastsMatchBruteForce) {
   std::mt19937 rng(5);
   DynamicTree tree;
   std::vector<int> live;
-  for (int i = 0; i < 800; ++i) live.push_back(tree.createProxy(randomBox(rng, 20, 2), i));
+  for (int i = 0; i < 800; ++i) live.push_back(tree.createProxy(randomAabb(rng, 20, 2), i));
   std::uniform_real_distribution<Real> c(-25, 25);
   std::size_t visited = 0, clippedHits = 0;
   for (int q = 0; q < 300; ++q) {
@@ -318,7 +314,7 @@ TEST(DynamicTree, HeightStaysLogarithmicForRandomAndSortedInsertions) {
   std::mt19937 rng(1);
   const int n = 4096;
   DynamicTree random;
-  for (int i = 0; i < n; ++i) random.createProxy(randomBox(rng, 100, 1), i);
+  for (int i = 0; i < n; ++i) random.createProxy(randomAabb(rng, 100, 1), i);
   random.validate();
   EXPECT_LE(random.height(), heightBound(n));
 
@@ -345,7 +341,7 @@ TEST(DynamicTree, ForEachNodeVisitsEveryNodeParentsFirst) {
   DynamicTree tree;
   std::vector<Aabb> fat;
   for (int i = 0; i < 300; ++i) {
-    const int id = tree.createProxy(randomBox(rng, 50, 1), std::uint32_t(i));
+    const int id = tree.createProxy(randomAabb(rng, 50, 1), std::uint32_t(i));
     fat.push_back(tree.fatAabb(id));
   }
   // A full binary tree over n leaves has 2n - 1 nodes; the first is the root.

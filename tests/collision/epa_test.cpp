@@ -18,7 +18,7 @@ namespace {
 // EPA ends on an exact face of a polytope difference, so its depth carries only rounding: a few
 // dozen roundings of coordinates of size `scale`. Curved cores (cylinders) stop within a
 // relative 1e-5 (float) / 1e-7 (double) of the depth (epa.cpp), covered by kCurvedRel.
-double tol(double scale) { return 64 * kEps * scale; }
+double depthTol(double scale) { return 64 * kEps * scale; }
 constexpr double kCurvedRel = sizeof(Real) == 4 ? 2e-5 : 2e-7;
 
 std::vector<Vec3d> worldVertices(const ConvexHull& h, const Transform& pose) {
@@ -88,10 +88,10 @@ TEST(Epa, OverlappingSpheres) {
     if (exact < 1e-3 || d.norm() < 1e-3) continue;
     const auto p = penetration(Collider(sa), pa, Collider(sb), pb);
     ASSERT_TRUE(p.has_value());
-    ASSERT_NEAR(p->depth, exact, tol(4));
-    ASSERT_LE((toD(p->normal) - d.normalized()).norm(), tol(4) / d.norm() + 1e-6);
-    ASSERT_LE((toD(p->pointA) - (toD(pa.p) + sa.radius * d.normalized())).norm(), tol(4));
-    ASSERT_LE((toD(p->pointA) - toD(p->pointB) - exact * toD(p->normal)).norm(), 2 * tol(4));
+    ASSERT_NEAR(p->depth, exact, depthTol(4));
+    ASSERT_LE((toD(p->normal) - d.normalized()).norm(), depthTol(4) / d.norm() + 1e-6);
+    ASSERT_LE((toD(p->pointA) - (toD(pa.p) + sa.radius * d.normalized())).norm(), depthTol(4));
+    ASSERT_LE((toD(p->pointA) - toD(p->pointB) - exact * toD(p->normal)).norm(), 2 * depthTol(4));
   }
 }
 
@@ -99,7 +99,7 @@ TEST(Epa, ConcentricSpheresHaveFiniteNormal) {
   const auto p = penetration(Collider(Sphere{1}), {Vec3(1, 2, 3)}, Collider(Sphere{Real(0.5)}),
                              {Vec3(1, 2, 3)});
   ASSERT_TRUE(p.has_value());
-  EXPECT_NEAR(p->depth, 1.5, tol(4));
+  EXPECT_NEAR(p->depth, 1.5, depthTol(4));
   EXPECT_NEAR(p->normal.norm(), 1, 1e3 * kEps);
 }
 
@@ -123,7 +123,7 @@ TEST(Epa, AxisAlignedBoxesMinimumOverlapAxis) {
     const Transform pa{ca, Quat::Identity()}, pb{cb, Quat::Identity()};
     const auto p = penetration(a, pa, b, pb);
     ASSERT_TRUE(p.has_value());
-    ASSERT_NEAR(p->depth, exact, tol(4)) << k;
+    ASSERT_NEAR(p->depth, exact, depthTol(4)) << k;
     ASSERT_LE((toD(p->normal) - n).norm(), 1e3 * kEps) << k;
     expectMinimalTranslation(a, pa, b, pb, *p, 1e3 * kEps * 4);
     const auto x = detail::ConvexProxy::fromCollider(a, pa),
@@ -157,11 +157,12 @@ TEST(Epa, SphereInsideBox) {
     const Collider cs(sphere), cb(box);
     const auto p = penetration(cs, ps, cb, pb);
     ASSERT_TRUE(p.has_value());
-    ASSERT_NEAR(p->depth, exact, tol(4)) << k;
+    ASSERT_NEAR(p->depth, exact, depthTol(4)) << k;
     // Moving the box (B) along the normal pushes the sphere out through the nearest face.
     const Vec3d n = -rotateD(pb, s.gradient);
     ASSERT_LE((toD(p->normal) - n).norm(), 1e-3) << k;
-    ASSERT_LE((toD(p->pointA) - toD(p->pointB) - p->depth * toD(p->normal)).norm(), 2 * tol(4));
+    ASSERT_LE((toD(p->pointA) - toD(p->pointB) - p->depth * toD(p->normal)).norm(),
+              2 * depthTol(4));
   }
   EXPECT_GT(inside, 300);
 }
@@ -180,10 +181,10 @@ TEST(Epa, RandomHullsMatchSeparatingAxisMinimum) {
     ++cases;
     const auto p = penetration(a, pa, b, pb);
     ASSERT_TRUE(p.has_value()) << k;
-    ASSERT_NEAR(p->depth, exact, tol(4) + 1e-6 * exact) << k;
+    ASSERT_NEAR(p->depth, exact, depthTol(4) + 1e-6 * exact) << k;
     // EPA's normal is an axis achieving the depth.
     const double along = overlapAlong(worldVertices(ha, pa), worldVertices(hb, pb), toD(p->normal));
-    ASSERT_NEAR(along, p->depth, tol(4)) << k;
+    ASSERT_NEAR(along, p->depth, depthTol(4)) << k;
     worst = std::max(worst, std::abs(p->depth - exact) / exact);
     const auto x = detail::ConvexProxy::fromCollider(a, pa),
                y = detail::ConvexProxy::fromCollider(b, pb);
@@ -209,7 +210,7 @@ TEST(Epa, CylinderOnBoxAnalyticDepth) {
     const double exact = box.halfExtents.y() + cyl.halfHeight - double(c.y());
     const auto p = penetration(Collider(box), {}, Collider(cyl), pc);
     ASSERT_TRUE(p.has_value());
-    ASSERT_NEAR(p->depth, exact, tol(4) + kCurvedRel * exact) << k;
+    ASSERT_NEAR(p->depth, exact, depthTol(4) + kCurvedRel * exact) << k;
     ASSERT_LE((toD(p->normal) - Vec3d::UnitY()).norm(), 1e-3) << k;
   }
 }
@@ -246,7 +247,7 @@ TEST(Epa, EveryConvexPairIsSeparatedByItsMinimalTranslation) {
       const double o = d.dot(toD(x.support(dr)) - toD(y.support(-dr))) + x.radius + y.radius;
       least = std::min(least, o);
     }
-    ASSERT_LE(p->depth, least + tol(4)) << k;
+    ASSERT_LE(p->depth, least + depthTol(4)) << k;
     const auto g = detail::gjk(x, y);
     if (g.overlapping && !detail::epa(x, y, g.simplex).converged) ++unconverged;
   }
@@ -263,13 +264,13 @@ TEST(Epa, FlatDifferencesGiveTheRadii) {
   const Transform pb{Vec3::Zero(), Quat(Eigen::AngleAxis<Real>(Real(M_PI / 2), Vec3::UnitX()))};
   const auto p = penetration(a, pa, b, pb);
   ASSERT_TRUE(p.has_value());
-  EXPECT_NEAR(p->depth, 0.5, tol(2));
+  EXPECT_NEAR(p->depth, 0.5, depthTol(2));
   EXPECT_NEAR(std::abs(p->normal.x()), 1, 1e-5);  // the segments span y and z
   // A sphere centred on a triangle: depth = radius along the triangle's normal.
   const auto tri = detail::ConvexProxy::triangle(Vec3(-1, 0, -1), Vec3(1, 0, -1), Vec3(0, 0, 1));
   const auto ball = detail::ConvexProxy::point(Vec3(0, 0, 0), Real(0.25));
   const detail::ConvexSeparation s = detail::separation(tri, ball);
-  EXPECT_NEAR(s.distance, -0.25, tol(2));
+  EXPECT_NEAR(s.distance, -0.25, depthTol(2));
   EXPECT_NEAR(std::abs(s.normal.y()), 1, 1e-5);
   // A capsule core piercing a triangle: a 3D difference, depth from EPA; B's segment along y
   // through the triangle: pushing it sideways out of the triangle's plane costs nothing,
@@ -278,6 +279,6 @@ TEST(Epa, FlatDifferencesGiveTheRadii) {
   // the nearest edge (0.447) or up/down by its half length (1), plus the radius 0.1.
   const auto seg = detail::ConvexProxy::segment(Vec3(0, -1, 0), Vec3(0, 1, 0), Real(0.1));
   const detail::ConvexSeparation q = detail::separation(tri, seg);
-  EXPECT_NEAR(q.distance, -(1 / std::sqrt(5.0) + 0.1), tol(2) + 1e-6);
+  EXPECT_NEAR(q.distance, -(1 / std::sqrt(5.0) + 0.1), depthTol(2) + 1e-6);
   EXPECT_TRUE(toD(q.normal).allFinite());
 }

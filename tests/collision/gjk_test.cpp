@@ -24,7 +24,7 @@ namespace {
 // in float, 1e-12 in double, well inside it). In double the absolute term is ~1e-14 m, so the
 // check is the plain 1e-5 relative one; in float it is ~1e-5 m for coordinates of ~1 m.
 constexpr double kRel = 1e-5;
-double tol(double distance, double scale) { return kRel * distance + 64 * kEps * scale; }
+double distanceTol(double distance, double scale) { return kRel * distance + 64 * kEps * scale; }
 
 // Ericson, Real-Time Collision Detection, 5.1.5: closest point on triangle abc to p (double).
 Vec3d closestOnTriangle(const Vec3d& p, const Vec3d& a, const Vec3d& b, const Vec3d& c) {
@@ -116,9 +116,9 @@ TEST(Gjk, SphereSphereMatchesCentreDistance) {
     if (exact < 1e-2) continue;
     const ClosestPoints c = closestPoints(Collider(sa), pa, Collider(sb), pb);
     ASSERT_FALSE(c.overlapping);
-    ASSERT_NEAR(c.distance, exact, tol(exact, 6)) << k;
+    ASSERT_NEAR(c.distance, exact, distanceTol(exact, 6)) << k;
     worst = std::max(worst, std::abs(c.distance - exact) / exact);
-    expectWitnesses(Collider(sa), pa, Collider(sb), pb, c, tol(exact, 6));
+    expectWitnesses(Collider(sa), pa, Collider(sb), pb, c, distanceTol(exact, 6));
   }
   std::printf("sphere-sphere: max relative error %.3g\n", worst);
 }
@@ -136,7 +136,7 @@ TEST(Gjk, SphereBoxMatchesPointQuery) {
     if (exact < 1e-2) continue;
     const Collider cs(sphere), cb(box);
     const ClosestPoints c = closestPoints(cs, ps, cb, pb);
-    const double t = tol(exact, 6);
+    const double t = distanceTol(exact, 6);
     ASSERT_NEAR(c.distance, exact, t) << k;
     ASSERT_NEAR(c.distance, queryPoint(cb, pb, ps.p).distance - sphere.radius, t);
     // B's witness is the point query's closest point.
@@ -165,9 +165,9 @@ TEST(Gjk, AxisAlignedBoxGaps) {
     if (exact < 1e-2) continue;
     const Collider a(Box{ha}), b(Box{hb});
     const ClosestPoints c = closestPoints(a, {ca, Quat::Identity()}, b, {cb, Quat::Identity()});
-    ASSERT_NEAR(c.distance, exact, tol(exact, 6)) << k;
+    ASSERT_NEAR(c.distance, exact, distanceTol(exact, 6)) << k;
     worst = std::max(worst, std::abs(c.distance - exact) / exact);
-    expectWitnesses(a, {ca, Quat::Identity()}, b, {cb, Quat::Identity()}, c, tol(exact, 6));
+    expectWitnesses(a, {ca, Quat::Identity()}, b, {cb, Quat::Identity()}, c, distanceTol(exact, 6));
   }
   std::printf("box-box axis-aligned: max relative error %.3g\n", worst);
 }
@@ -190,9 +190,9 @@ TEST(Gjk, CapsuleCapsuleMatchesSegmentDistance) {
     const double exact = std::sqrt(segmentDistance2(a0, a1, b0, b1)) - ca.radius - cb.radius;
     if (exact < 1e-2) continue;
     const ClosestPoints c = closestPoints(Collider(ca), pa, Collider(cb), pb);
-    ASSERT_NEAR(c.distance, exact, tol(exact, 4)) << k;
+    ASSERT_NEAR(c.distance, exact, distanceTol(exact, 4)) << k;
     worst = std::max(worst, std::abs(c.distance - exact) / exact);
-    expectWitnesses(Collider(ca), pa, Collider(cb), pb, c, tol(exact, 4));
+    expectWitnesses(Collider(ca), pa, Collider(cb), pb, c, distanceTol(exact, 4));
   }
   EXPECT_GT(parallel, 100);
   std::printf("capsule-capsule: max relative error %.3g\n", worst);
@@ -221,8 +221,8 @@ TEST(Gjk, RandomHullsMatchBruteForceFeaturePairs) {
     ASSERT_GE(exact, g * (1 - 1e-6) - 1e-6);
     const ClosestPoints c = closestPoints(a, pa, b, pb);
     const double scale = std::max(toD(pa.p).norm(), toD(pb.p).norm()) + 2;
-    ASSERT_NEAR(c.distance, exact, tol(exact, scale)) << k;
-    expectWitnesses(a, pa, b, pb, c, tol(exact, scale));
+    ASSERT_NEAR(c.distance, exact, distanceTol(exact, scale)) << k;
+    expectWitnesses(a, pa, b, pb, c, distanceTol(exact, scale));
     worst = std::max(worst, std::abs(c.distance - exact) / exact);
     const auto gr = detail::gjk(detail::ConvexProxy::fromCollider(a, pa),
                                 detail::ConvexProxy::fromCollider(b, pb));
@@ -261,7 +261,7 @@ TEST(Gjk, TriangleBoxMatchesBruteForce) {
     const auto proxyB = detail::ConvexProxy::fromCollider(Collider(Box{h}), pb);
     const detail::ConvexSeparation s = detail::separation(proxyT, proxyB);
     const double scale = shift + 3;
-    ASSERT_NEAR(s.distance, exact, tol(exact, scale)) << k;
+    ASSERT_NEAR(s.distance, exact, distanceTol(exact, scale)) << k;
     worst = std::max(worst, std::abs(s.distance - exact) / exact);
     // The normal points from the triangle to the box.
     ASSERT_GT(toD(s.normal).dot(toD(s.pointB) - toD(s.pointA)), 0);
@@ -307,7 +307,7 @@ TEST(Gjk, TriangleCylinderMatchesConvexMinimisation) {
     const auto proxyC = detail::ConvexProxy::fromCollider(Collider(cyl), pc);
     const detail::GjkResult g = detail::gjk(proxyT, proxyC);
     ASSERT_FALSE(g.overlapping);
-    ASSERT_NEAR(g.distance, best, tol(best, 5)) << k;
+    ASSERT_NEAR(g.distance, best, distanceTol(best, 5)) << k;
     worst = std::max(worst, std::abs(g.distance - best) / best);
     maxIter = std::max(maxIter, g.iterations);
   }
@@ -335,7 +335,7 @@ TEST(Gjk, WarmStartGuessGivesTheSameAnswer) {
     const auto x = detail::ConvexProxy::fromCollider(a, pa),
                y = detail::ConvexProxy::fromCollider(b, pb);
     const auto cold = detail::gjk(x, y), warm = detail::gjk(x, y, randomVec(rng, -1, 1));
-    ASSERT_NEAR(cold.distance, warm.distance, tol(cold.distance, 6));
+    ASSERT_NEAR(cold.distance, warm.distance, distanceTol(cold.distance, 6));
   }
 }
 

@@ -11,14 +11,7 @@ using namespace inertia::test;
 namespace {
 // Lengths near coordinates of ~5 m: the hull and the box route the same point through different
 // formulas (face planes from Qhull versus halfExtents), each a few dozen roundings.
-const double kTol = 64 * kEps * 5;
-
-std::vector<Vec3> boxCorners(const Vec3& h) {
-  std::vector<Vec3> v;
-  for (int i = 0; i < 8; ++i)
-    v.emplace_back((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z());
-  return v;
-}
+const double kHullTol = 64 * kEps * 5;
 }  // namespace
 
 TEST(HullQuery, BoxCornersHullEqualsBoxForPoints) {
@@ -31,8 +24,8 @@ TEST(HullQuery, BoxCornersHullEqualsBoxForPoints) {
     const Transform pose = randomPose(rng);
     const Vec3 p = pose.apply(randomVec(rng, -2, 2));
     const PointQuery a = queryPoint(hull, pose, p), b = queryPoint(box, pose, p);
-    ASSERT_NEAR(a.distance, b.distance, kTol);
-    ASSERT_LE((a.point - b.point).cast<double>().norm(), 2 * kTol);
+    ASSERT_NEAR(a.distance, b.distance, kHullTol);
+    ASSERT_LE((a.point - b.point).cast<double>().norm(), 2 * kHullTol);
     // Normals agree except where the nearest face of an inside point is ambiguous.
     const Vec3d local = toLocal(pose, p);
     const Vec3d gaps = toD(h) - local.cwiseAbs();
@@ -59,20 +52,20 @@ TEST(HullQuery, BoxCornersHullEqualsBoxForRays) {
       // Only a ray grazing an edge or ending on the surface may disagree.
       const auto& h1 = a ? a : b;
       const Real speed = ray.direction.norm();
-      const bool endsOnSurface = std::abs(h1->fraction - 1) * speed < 1e2 * kTol;
+      const bool endsOnSurface = std::abs(h1->fraction - 1) * speed < 1e2 * kHullTol;
       const bool grazes = std::abs(h1->normal.dot(ray.direction)) < 1e-3 * speed;
       ASSERT_TRUE(endsOnSurface || grazes) << "fraction " << h1->fraction;
       continue;
     }
     if (!a) continue;
     ++hits;
-    ASSERT_NEAR(a->fraction, b->fraction, 1e2 * kTol / ray.direction.norm());
+    ASSERT_NEAR(a->fraction, b->fraction, 1e2 * kHullTol / ray.direction.norm());
     if (std::abs(a->normal.dot(b->normal)) < 0.5) {
       // Different faces: the hit lies on an edge (within rounding).
       const Vec3d local = toLocal(pose, b->point);
       const Vec3d gaps = toD(h) - local.cwiseAbs();
       int onFace = 0;
-      for (int i = 0; i < 3; ++i) onFace += std::abs(gaps[i]) < 1e2 * kTol;
+      for (int i = 0; i < 3; ++i) onFace += std::abs(gaps[i]) < 1e2 * kHullTol;
       ASSERT_GE(onFace, 2);
     }
   }
@@ -105,18 +98,18 @@ TEST(HullQuery, RandomHullsMatchBruteForceOverFaces) {
         }
       }
       const double expected = inside > 0 ? outside : inside;
-      ASSERT_NEAR(q.distance, expected, kTol) << p.transpose();
+      ASSERT_NEAR(q.distance, expected, kHullTol) << p.transpose();
       ASSERT_NEAR(q.normal.cast<double>().norm(), 1, 16 * kEps);
-      ASSERT_LE((p - q.distance * q.normal - q.point).cast<double>().norm(), 2 * kTol);
+      ASSERT_LE((p - q.distance * q.normal - q.point).cast<double>().norm(), 2 * kHullTol);
 
       // A ray from p: brute force over the face triangles, unless p is inside.
       const Ray ray{p, randomVec(rng, -3, 3), 1};
       const auto hit = castRay(hull, {}, ray);
-      if (expected < -kTol) {
+      if (expected < -kHullTol) {
         ASSERT_FALSE(hit);
         continue;
       }
-      if (expected < kTol) continue;  // on the surface: either answer
+      if (expected < kHullTol) continue;  // on the surface: either answer
       Real best = 2;
       for (std::size_t f = 0; f < hullShape.faces().size(); ++f) {
         const auto loop = hullShape.faceEdges(f);
@@ -131,12 +124,12 @@ TEST(HullQuery, RandomHullsMatchBruteForceOverFaces) {
         if (!hit) {
           // Only a grazing contact may be missed: the ray passes within rounding of an edge.
           const Vec3 x = ray.origin + best * ray.direction;
-          ASSERT_LE(std::abs(queryPoint(hull, {}, x).distance), kTol);
+          ASSERT_LE(std::abs(queryPoint(hull, {}, x).distance), kHullTol);
           continue;
         }
-        ASSERT_NEAR(hit->fraction, best, 1e2 * kTol / ray.direction.norm());
+        ASSERT_NEAR(hit->fraction, best, 1e2 * kHullTol / ray.direction.norm());
       } else if (hit) {
-        ASSERT_LE(std::abs(queryPoint(hull, {}, hit->point).distance), 1e2 * kTol);
+        ASSERT_LE(std::abs(queryPoint(hull, {}, hit->point).distance), 1e2 * kHullTol);
       }
     }
   }

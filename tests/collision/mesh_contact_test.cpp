@@ -24,25 +24,8 @@ using namespace inertia::test;
 
 namespace {
 
-// Coordinates of a few metres through a handful of transforms and the clipping interpolation:
-// 200 ulps of a 4 m coordinate (~1e-4 m in float, ~2e-13 m in double), as contact_test.
-const double kTol = 200 * kEps * 4;
 // A normal "equal to the face normal within rounding": the library's merge threshold.
 const double kNormalTol = 100 * kEps;
-
-Transform at(double x, double y, double z, const Quat& q = Quat::Identity()) {
-  return {Vec3(Real(x), Real(y), Real(z)), q};
-}
-Quat axisAngle(double angle, const Vec3& axis) {
-  return Quat(Eigen::AngleAxis<Real>(Real(angle), axis.normalized()));
-}
-
-std::vector<ContactManifold> collideAll(const Collider& a, const Transform& pa, const Collider& b,
-                                        const Transform& pb, Real spec = 0) {
-  std::vector<ContactManifold> out;
-  collide(a, pa, b, pb, ContactSettings{.speculativeDistance = spec}, out);
-  return out;
-}
 
 // A flat n x n grid of square cells of side `cell` in the plane y = 0, centred on the origin:
 // 2 n^2 triangles, split along the same diagonal as a height field, normals +y.
@@ -84,9 +67,9 @@ void expectManifolds(const std::vector<ContactManifold>& out, const Vec3& n, con
     EXPECT_GE(double(m.normal.dot(n)), 1 - kNormalTol) << where << " normal " << m.normal.transpose();
     for (int k = 0; k < m.pointCount; ++k) {
       const ContactPoint& p = m.points[std::size_t(k)];
-      EXPECT_NEAR(queryPoint(a, pa, p.pointA).distance, 0, kTol) << where;
-      EXPECT_NEAR(queryPoint(b, pb, p.pointB).distance, 0, kTol) << where;
-      EXPECT_NEAR((p.pointB - p.pointA).dot(m.normal), p.separation, kTol) << where;
+      EXPECT_NEAR(queryPoint(a, pa, p.pointA).distance, 0, kContactTol) << where;
+      EXPECT_NEAR(queryPoint(b, pb, p.pointB).distance, 0, kContactTol) << where;
+      EXPECT_NEAR((p.pointB - p.pointA).dot(m.normal), p.separation, kContactTol) << where;
     }
   }
 }
@@ -131,7 +114,7 @@ TEST(MeshContact, BoxOnFlatGridFeelsOnlyTheFaceNormal) {
       const std::string where = "case " + std::to_string(it);
       ASSERT_FALSE(out.empty()) << where;
       expectManifolds(out, -Vec3::UnitY(), box, pose, *target, targetPose, where);
-      EXPECT_NEAR(minSeparation(out), -depth, kTol) << where;
+      EXPECT_NEAR(minSeparation(out), -depth, kContactTol) << where;
       // Equal normals merge: one manifold, as on the plane, with the plane's points when the box
       // lies flat (its four bottom corners).
       EXPECT_EQ(out.size(), 1u) << where;
@@ -144,7 +127,7 @@ TEST(MeshContact, BoxOnFlatGridFeelsOnlyTheFaceNormal) {
             best = std::min(best, double((out[0].points[std::size_t(k)].pointA -
                                           onPlane[0].points[std::size_t(j)].pointA)
                                              .norm()));
-          EXPECT_LT(best, kTol) << where;
+          EXPECT_LT(best, kContactTol) << where;
         }
       }
       ++cases;
@@ -198,7 +181,7 @@ TEST(MeshContact, SphereAndCapsuleRollingAcrossSeamsFeelOnlyTheFaceNormal) {
           const std::string where = "s " + std::to_string(s);
           ASSERT_EQ(out.size(), 1u) << where;
           expectManifolds(out, -Vec3::UnitY(), *shape, pose, *target, tp, where);
-          EXPECT_NEAR(minSeparation(out), -depth, kTol) << where;
+          EXPECT_NEAR(minSeparation(out), -depth, kContactTol) << where;
           ++checked;
         }
     }
@@ -223,8 +206,8 @@ TEST(MeshContact, ConvexEdgeAndCornerOfAMeshKeepTheirNormals) {
   ASSERT_EQ(out[0].pointCount, 2);
   for (int k = 0; k < 2; ++k) {
     const ContactPoint& p = out[0].points[std::size_t(k)];
-    EXPECT_NEAR(p.separation, -depth, kTol);
-    EXPECT_NEAR(std::abs(p.pointB.z()), h.z(), kTol);  // the box face's ends along the edge
+    EXPECT_NEAR(p.separation, -depth, kContactTol);
+    EXPECT_NEAR(std::abs(p.pointB.z()), h.z(), kContactTol);  // the box face's ends along the edge
   }
   // A sphere on the cube's corner: the vertex normal along the diagonal.
   const Collider sphere{Shape(Sphere{Real(0.2)})};
@@ -234,7 +217,7 @@ TEST(MeshContact, ConvexEdgeAndCornerOfAMeshKeepTheirNormals) {
   ASSERT_EQ(corner.size(), 1u);
   expectManifolds(corner, -d3, sphere, sp, cube, {}, "corner");
   ASSERT_EQ(corner[0].pointCount, 1);
-  EXPECT_NEAR(corner[0].points[0].separation, -depth, kTol);
+  EXPECT_NEAR(corner[0].points[0].separation, -depth, kContactTol);
 }
 
 // ---- Hull on a mesh, sphere in a bowl ------------------------------------------------------
@@ -270,9 +253,10 @@ TEST(MeshContact, HullRestsOnAMeshAsOnAPlane) {
       const Vec3d base = p(1) - p(0);
       return 0.5 * (base.cross(p(2) - p(0)).norm() + base.cross(p(3) - p(0)).norm());
     };
-    EXPECT_NEAR(area(out[0]), area(ref[0]), kTol) << it;
-    EXPECT_NEAR(area(out[0]), 0.6 * 0.3 * std::sin(M_PI / 3), kTol) << it;
-    for (int k = 0; k < 4; ++k) EXPECT_NEAR(out[0].points[std::size_t(k)].separation, -depth, kTol);
+    EXPECT_NEAR(area(out[0]), area(ref[0]), kContactTol) << it;
+    EXPECT_NEAR(area(out[0]), 0.6 * 0.3 * std::sin(M_PI / 3), kContactTol) << it;
+    for (int k = 0; k < 4; ++k)
+      EXPECT_NEAR(out[0].points[std::size_t(k)].separation, -depth, kContactTol);
   }
 }
 
@@ -327,10 +311,10 @@ TEST(MeshContact, SphereInABowlMatchesTheClosestPointOfTheMesh) {
     const ContactManifold* deepest = nullptr;
     for (const auto& m : out)
       if (!deepest || m.points[0].separation < deepest->points[0].separation) deepest = &m;
-    EXPECT_NEAR(deepest->points[0].separation, q.distance - r, kTol) << it;
-    EXPECT_LT((deepest->points[0].pointB - q.point).norm(), 20 * kTol) << it;
+    EXPECT_NEAR(deepest->points[0].separation, q.distance - r, kContactTol) << it;
+    EXPECT_LT((deepest->points[0].pointB - q.point).norm(), 20 * kContactTol) << it;
     EXPECT_GE(double(deepest->normal.dot((q.point - centre).normalized())), 1 - 1e3 * kNormalTol) << it;
-    for (const auto& m : out) EXPECT_GE(m.points[0].separation, q.distance - r - kTol);
+    for (const auto& m : out) EXPECT_GE(m.points[0].separation, q.distance - r - kContactTol);
   }
 }
 
@@ -353,7 +337,8 @@ TEST(CompoundContact, TwoBoxesOnAPlaneAndOnABoxGiveOneManifoldPerChild) {
       EXPECT_EQ(m.subShapeA, 0u);
       EXPECT_EQ(m.pointCount, 4);
       EXPECT_GE(double(m.normal.y()), 1 - kNormalTol);
-      for (int k = 0; k < 4; ++k) EXPECT_NEAR(m.points[std::size_t(k)].separation, -depth, kTol);
+      for (int k = 0; k < 4; ++k)
+        EXPECT_NEAR(m.points[std::size_t(k)].separation, -depth, kContactTol);
       // The points belong to the named child: within its box horizontally.
       const double cx = m.subShapeB == 0 ? -0.5 : 0.7;
       for (int k = 0; k < 4; ++k) EXPECT_LT(std::abs(m.points[std::size_t(k)].pointB.x() - cx), 0.37);
@@ -400,7 +385,7 @@ TEST(CompoundContact, CompoundOnAMeshAndOnACompoundCombineTheSubShapes) {
     }
     EXPECT_EQ(double(tri), lowest);
     EXPECT_LE(double(m.normal.y()), -(1 - kNormalTol));
-    EXPECT_NEAR(minSeparation({m}), -depth, kTol);
+    EXPECT_NEAR(minSeparation({m}), -depth, kContactTol);
   }
   EXPECT_EQ(children, (std::set<std::uint32_t>{0, 1}));
   // Compound on compound: two boxes stacked on two boxes, child k on child k.
@@ -408,7 +393,7 @@ TEST(CompoundContact, CompoundOnAMeshAndOnACompoundCombineTheSubShapes) {
   ASSERT_EQ(stacked.size(), 2u);
   for (const auto& m : stacked) {
     EXPECT_EQ(m.subShapeA, m.subShapeB);
-    EXPECT_NEAR(minSeparation({m}), -depth, kTol);
+    EXPECT_NEAR(minSeparation({m}), -depth, kContactTol);
   }
   EXPECT_EQ(detail::compoundSubShape(2, 3, 5), 2u | (5u << 2));
   EXPECT_EQ(detail::compoundSubShape(0, 1, 7), 7u);
@@ -424,8 +409,8 @@ struct BrutePairs {
   std::set<std::pair<std::uint32_t, std::uint32_t>> sure, possible;
   std::map<std::pair<std::uint32_t, std::uint32_t>, double> gap;
 };
-BrutePairs bruteForcePairs(const TriangleMesh& a, const Transform& pa, const TriangleMesh& b,
-                           const Transform& pb, double spec) {
+BrutePairs bruteForceTrianglePairs(const TriangleMesh& a, const Transform& pa,
+                                   const TriangleMesh& b, const Transform& pb, double spec) {
   BrutePairs out;
   const auto world = [](const TriangleMesh& m, std::uint32_t t, const Transform& p) {
     std::array<Vec3d, 3> w;
@@ -437,8 +422,10 @@ BrutePairs bruteForcePairs(const TriangleMesh& a, const Transform& pa, const Tri
     for (std::uint32_t j = 0; j < b.triangles().size(); ++j) {
       const double gap = triangleGap(world(a, i, pa), world(b, j, pb));
       out.gap[{i, j}] = gap;
-      if (gap < -kTol) out.sure.insert({i, j});
-      else if (gap < spec + kTol) out.possible.insert({i, j});
+      if (gap < -kContactTol)
+        out.sure.insert({i, j});
+      else if (gap < spec + kContactTol)
+        out.possible.insert({i, j});
     }
   return out;
 }
@@ -455,18 +442,19 @@ TEST(MeshMeshContact, OverlappingCubesTouchDisjointOnesDoNot) {
   double faceDepth = 1e300;
   for (const auto& m : out)
     if (m.normal.x() > 1 - kNormalTol) faceDepth = std::min(faceDepth, minSeparation({m}));
-  EXPECT_NEAR(faceDepth, -depth, kTol);
-  for (const auto& m : out) EXPECT_GE(minSeparation({m}), -0.2 - kTol);  // B's top is 0.2 above
+  EXPECT_NEAR(faceDepth, -depth, kContactTol);
+  for (const auto& m : out)
+    EXPECT_GE(minSeparation({m}), -0.2 - kContactTol);  // B's top is 0.2 above
   EXPECT_TRUE(collideAll(a, {}, b, at(1.05, 0.2, 0.1)).empty());
   EXPECT_TRUE(collideAll(a, {}, b, at(3, 2, 1)).empty());
   // Speculative: apart by 5 cm, reported with a 10 cm margin, nothing closer than 5 cm.
   const auto spec = collideAll(a, {}, b, at(1.05, 0.2, 0.1), Real(0.1));
   ASSERT_FALSE(spec.empty());
-  EXPECT_GE(minSeparation(spec), 0.05 - kTol);
+  EXPECT_GE(minSeparation(spec), 0.05 - kContactTol);
   double specFace = 1e300;
   for (const auto& m : spec)
     if (m.normal.x() > 1 - kNormalTol) specFace = std::min(specFace, minSeparation({m}));
-  EXPECT_NEAR(specFace, 0.05, kTol);
+  EXPECT_NEAR(specFace, 0.05, kContactTol);
 }
 
 TEST(MeshMeshContact, DualTraversalFindsTheSameTrianglePairsAsBruteForce) {
@@ -486,14 +474,14 @@ TEST(MeshMeshContact, DualTraversalFindsTheSameTrianglePairsAsBruteForce) {
       EXPECT_TRUE(found.insert({m.subShapeA, m.subShapeB}).second) << "pair reported twice";
       EXPECT_NEAR(m.normal.norm(), 1, 10 * kEps);
     }
-    const BrutePairs brute = bruteForcePairs(ma, pa, mb, pb, spec);
+    const BrutePairs brute = bruteForceTrianglePairs(ma, pa, mb, pb, spec);
     for (const auto& p : brute.sure) EXPECT_TRUE(found.count(p)) << it << " missed " << p.first << "," << p.second;
     for (const auto& p : found) EXPECT_TRUE(brute.sure.count(p) || brute.possible.count(p)) << it << " extra " << p.first << "," << p.second;
     // A reported pair apart by a positive gap is at least that far apart (distance >= gap).
     for (const auto& m : out) {
       const double g = brute.gap.at({m.subShapeA, m.subShapeB});
-      if (g > kTol) {
-        EXPECT_GE(minSeparation({m}), g - kTol) << it;
+      if (g > kContactTol) {
+        EXPECT_GE(minSeparation({m}), g - kContactTol) << it;
       }
     }
     sureTotal += brute.sure.size();

@@ -23,7 +23,7 @@ using Tri = TriangleD;
 
 // Distance of a point to a triangle: the plane when the projection lies inside, else the
 // nearest edge (a zero-area triangle is its edges).
-double pointTriangle(const Vec3d& p, const Tri& t) {
+double pointTriDistance(const Vec3d& p, const Tri& t) {
   double best = 1e300;
   for (std::size_t k = 0; k < 3; ++k)
     best = std::min(best, segmentDistance2(p, p, t[k], t[(k + 1) % 3]));
@@ -45,7 +45,7 @@ double triangleDistanceD(const Tri& a, const Tri& b) {
   if (triangleGap(a, b) <= 0) return 0;
   double best = 1e300;
   for (std::size_t k = 0; k < 3; ++k) {
-    best = std::min({best, pointTriangle(a[k], b), pointTriangle(b[k], a)});
+    best = std::min({best, pointTriDistance(a[k], b), pointTriDistance(b[k], a)});
     for (std::size_t j = 0; j < 3; ++j)
       best = std::min(best, std::sqrt(segmentDistance2(a[k], a[(k + 1) % 3], b[j], b[(j + 1) % 3])));
   }
@@ -63,7 +63,7 @@ double sampledDistance(const Tri& a, const Tri& b, int n) {
     for (int i = 0; i <= n; ++i)
       for (int j = 0; i + j <= n; ++j) {
         const double u = double(i) / n, v = double(j) / n;
-        best = std::min(best, pointTriangle(s[0] + u * (s[1] - s[0]) + v * (s[2] - s[0]), o));
+        best = std::min(best, pointTriDistance(s[0] + u * (s[1] - s[0]) + v * (s[2] - s[0]), o));
       }
   }
   return best;
@@ -83,7 +83,7 @@ TriangleDistance libDistance(const Vec3 (&a)[3], const Vec3 (&b)[3]) {
 // 1-Lipschitz in the corners, so it inherits that error, plus the rounding of the feature
 // computations (also a few ulps of the coordinates): 16 ulps of 4 m = 7.6e-6 m in float
 // (2e-6 of the scale; 1.4e-14 m in double).
-const double kTol = 16 * kEps * 4;
+const double kMeshDistanceTol = 16 * kEps * 4;
 
 Transform randomPoseAround(std::mt19937_64& rng, double spread) { return randomPose(rng, spread); }
 
@@ -143,14 +143,14 @@ TEST(TriangleDistance, ParallelOffsetTrianglesAreTheirPlaneGapApart) {
                        pose.apply(Vec3(0, 1, 0))};
     const Vec3 b[3] = {pose.apply(Vec3(0.1f, 0.1f, Real(h))), pose.apply(Vec3(0.6f, 0.1f, Real(h))),
                        pose.apply(Vec3(0.1f, 0.6f, Real(h)))};
-    EXPECT_NEAR(double(libDistance(a, b).distance), h, kTol) << it;
+    EXPECT_NEAR(double(libDistance(a, b).distance), h, kMeshDistanceTol) << it;
     const Vec3 c[3] = {pose.apply(Vec3(0.75f, 0.75f, Real(h))),
                        pose.apply(Vec3(1.5f, 0.75f, Real(h))),
                        pose.apply(Vec3(0.75f, 1.5f, Real(h)))};
     const double side = 0.5 / std::sqrt(2.0);
     const TriangleDistance d = libDistance(a, c);
-    EXPECT_NEAR(double(d.distance), std::sqrt(side * side + h * h), kTol) << it;
-    EXPECT_NEAR(double((d.pointB - d.pointA).norm()), double(d.distance), kTol);
+    EXPECT_NEAR(double(d.distance), std::sqrt(side * side + h * h), kMeshDistanceTol) << it;
+    EXPECT_NEAR(double((d.pointB - d.pointA).norm()), double(d.distance), kMeshDistanceTol);
   }
 }
 
@@ -166,9 +166,12 @@ TEST(TriangleDistance, SkewEdgesAreClosestAtTheirInteriors) {
     const Vec3 b[3] = {pose.apply(Vec3(0, -1, Real(h))), pose.apply(Vec3(0, 1, Real(h))),
                        pose.apply(Vec3(0, 0, Real(h + 1)))};
     const TriangleDistance d = libDistance(a, b);
-    EXPECT_NEAR(double(d.distance), h, kTol) << it;
-    EXPECT_NEAR((toD(d.pointA) - toD(pose.apply(Vec3::Zero()))).norm(), 0, 10 * kTol) << it;
-    EXPECT_NEAR((toD(d.pointB) - toD(pose.apply(Vec3(0, 0, Real(h))))).norm(), 0, 10 * kTol) << it;
+    EXPECT_NEAR(double(d.distance), h, kMeshDistanceTol) << it;
+    EXPECT_NEAR((toD(d.pointA) - toD(pose.apply(Vec3::Zero()))).norm(), 0, 10 * kMeshDistanceTol)
+        << it;
+    EXPECT_NEAR((toD(d.pointB) - toD(pose.apply(Vec3(0, 0, Real(h))))).norm(), 0,
+                10 * kMeshDistanceTol)
+        << it;
   }
 }
 
@@ -186,15 +189,16 @@ TEST(TriangleDistance, RandomPairsMatchDenseSamplingAndTheExactOracle) {
     const double exact = triangleDistanceD(ta, tb), sampled = sampledDistance(ta, tb, n);
     crossing += exact == 0;
     worst = std::max(worst, std::abs(double(d.distance) - exact));
-    EXPECT_NEAR(double(d.distance), exact, kTol) << it;
+    EXPECT_NEAR(double(d.distance), exact, kMeshDistanceTol) << it;
     // The sampled upper bound is at most one grid step above the true distance.
-    EXPECT_LE(double(d.distance), sampled + kTol) << it;
-    EXPECT_GE(double(d.distance), sampled - std::min(longestEdge(ta), longestEdge(tb)) / n - kTol)
+    EXPECT_LE(double(d.distance), sampled + kMeshDistanceTol) << it;
+    EXPECT_GE(double(d.distance),
+              sampled - std::min(longestEdge(ta), longestEdge(tb)) / n - kMeshDistanceTol)
         << it;
     // The points lie on their triangles and are `distance` apart.
-    EXPECT_NEAR(pointTriangle(toD(d.pointA), ta), 0, kTol) << it;
-    EXPECT_NEAR(pointTriangle(toD(d.pointB), tb), 0, kTol) << it;
-    EXPECT_NEAR((toD(d.pointB) - toD(d.pointA)).norm(), double(d.distance), kTol) << it;
+    EXPECT_NEAR(pointTriDistance(toD(d.pointA), ta), 0, kMeshDistanceTol) << it;
+    EXPECT_NEAR(pointTriDistance(toD(d.pointB), tb), 0, kMeshDistanceTol) << it;
+    EXPECT_NEAR((toD(d.pointB) - toD(d.pointA)).norm(), double(d.distance), kMeshDistanceTol) << it;
   }
   EXPECT_GT(crossing, 5);  // both kinds of pair were exercised
   EXPECT_LT(crossing, 115);
@@ -214,12 +218,13 @@ TEST(TriangleDistance, ZeroAreaTrianglesNeverGiveNaN) {
         const TriangleDistance d = swap ? libDistance(b, a) : libDistance(a, b);
         ASSERT_TRUE(std::isfinite(d.distance) && d.pointA.allFinite() && d.pointB.allFinite())
             << it;
-        EXPECT_NEAR(double(d.distance), triangleDistanceD(toTri(a), toTri(b)), kTol) << it;
+        EXPECT_NEAR(double(d.distance), triangleDistanceD(toTri(a), toTri(b)), kMeshDistanceTol)
+            << it;
       }
     }
     const TriangleDistance both = libDistance(degenerate[1], degenerate[2]);
     EXPECT_TRUE(std::isfinite(both.distance)) << it;
-    EXPECT_NEAR(double(both.distance), 0, kTol) << it;  // same segment
+    EXPECT_NEAR(double(both.distance), 0, kMeshDistanceTol) << it;  // same segment
   }
 }
 
@@ -239,13 +244,14 @@ TEST(MeshDistance, MatchesBruteForceOverAllTrianglePairs) {
     const double err = std::abs(double(d->distance) - brute.distance);
     worstAbs = std::max(worstAbs, err);
     if (brute.distance > 0.01) worstRel = std::max(worstRel, err / brute.distance);
-    EXPECT_NEAR(double(d->distance), brute.distance, kTol) << it;
+    EXPECT_NEAR(double(d->distance), brute.distance, kMeshDistanceTol) << it;
     // The reported triangles are that far apart, the points lie on them.
     const Tri ta = worldTri(ma, d->triangleA, pa), tb = worldTri(mb, d->triangleB, pb);
-    EXPECT_NEAR(triangleDistanceD(ta, tb), brute.distance, kTol) << it;
-    EXPECT_NEAR(pointTriangle(toD(d->pointA), ta), 0, kTol) << it;
-    EXPECT_NEAR(pointTriangle(toD(d->pointB), tb), 0, kTol) << it;
-    EXPECT_NEAR((toD(d->pointB) - toD(d->pointA)).norm(), double(d->distance), kTol) << it;
+    EXPECT_NEAR(triangleDistanceD(ta, tb), brute.distance, kMeshDistanceTol) << it;
+    EXPECT_NEAR(pointTriDistance(toD(d->pointA), ta), 0, kMeshDistanceTol) << it;
+    EXPECT_NEAR(pointTriDistance(toD(d->pointB), tb), 0, kMeshDistanceTol) << it;
+    EXPECT_NEAR((toD(d->pointB) - toD(d->pointA)).norm(), double(d->distance), kMeshDistanceTol)
+        << it;
     EXPECT_EQ(meshesOverlap(a, pa, b, pb), d->distance == 0) << it;
     (brute.distance > 0 ? separated : intersecting)++;
     // maxDistance: nothing below the distance, the same answer above it.
@@ -270,7 +276,7 @@ TEST(MeshDistance, SmallSphereInsideALargeOneIsAtItsSurfaceDistance) {
   const auto d = meshDistance(a, {}, b, pb);
   ASSERT_TRUE(d.has_value());
   EXPECT_GT(d->distance, Real(0.1));
-  EXPECT_NEAR(double(d->distance), bruteForce(ma, {}, mb, pb).distance, kTol);
+  EXPECT_NEAR(double(d->distance), bruteForce(ma, {}, mb, pb).distance, kMeshDistanceTol);
 }
 
 TEST(MeshDistance, SeparatedTouchingAndIntersectingCubes) {
@@ -282,30 +288,30 @@ TEST(MeshDistance, SeparatedTouchingAndIntersectingCubes) {
   // Apart by 0.25 along x: A's +x face and B's -x face.
   const auto apart = meshDistance(a, {}, b, at(1.25, 0.2, 0.1));
   ASSERT_TRUE(apart.has_value());
-  EXPECT_NEAR(double(apart->distance), 0.25, kTol);
-  EXPECT_NEAR(double(apart->pointA.x()), 0.5, kTol);
-  EXPECT_NEAR(double(apart->pointB.x()), 0.75, kTol);
+  EXPECT_NEAR(double(apart->distance), 0.25, kMeshDistanceTol);
+  EXPECT_NEAR(double(apart->pointA.x()), 0.5, kMeshDistanceTol);
+  EXPECT_NEAR(double(apart->pointB.x()), 0.75, kMeshDistanceTol);
   EXPECT_FALSE(meshDistance(a, {}, b, at(1.25, 0.2, 0.1), Real(0.2)).has_value());
   EXPECT_TRUE(meshDistance(a, {}, b, at(1.25, 0.2, 0.1), Real(0.3)).has_value());
   EXPECT_FALSE(meshesOverlap(a, {}, b, at(1.25, 0.2, 0.1)));
   // Corner to corner along the diagonal: sqrt(3) * 0.1.
   const auto corner = meshDistance(a, {}, b, at(1.1, 1.1, 1.1));
   ASSERT_TRUE(corner.has_value());
-  EXPECT_NEAR(double(corner->distance), std::sqrt(3.0) * 0.1, kTol);
+  EXPECT_NEAR(double(corner->distance), std::sqrt(3.0) * 0.1, kMeshDistanceTol);
   // Touching face to face: 0 within rounding.
   const auto touching = meshDistance(a, {}, b, at(1, 0.2, 0.1));
   ASSERT_TRUE(touching.has_value());
-  EXPECT_NEAR(double(touching->distance), 0, kTol);
+  EXPECT_NEAR(double(touching->distance), 0, kMeshDistanceTol);
   // Interpenetrating by 2 cm: the surfaces cross, distance exactly 0 at a common point.
   const auto crossing = meshDistance(a, {}, b, at(0.98, 0.2, 0.1));
   ASSERT_TRUE(crossing.has_value());
   EXPECT_EQ(crossing->distance, 0);
   EXPECT_EQ(crossing->pointA, crossing->pointB);
-  EXPECT_NEAR(pointTriangle(toD(crossing->pointA), worldTri(cube, crossing->triangleA, {})), 0,
-              kTol);
-  EXPECT_NEAR(
-      pointTriangle(toD(crossing->pointB), worldTri(cube, crossing->triangleB, at(0.98, 0.2, 0.1))),
-      0, kTol);
+  EXPECT_NEAR(pointTriDistance(toD(crossing->pointA), worldTri(cube, crossing->triangleA, {})), 0,
+              kMeshDistanceTol);
+  EXPECT_NEAR(pointTriDistance(toD(crossing->pointB),
+                               worldTri(cube, crossing->triangleB, at(0.98, 0.2, 0.1))),
+              0, kMeshDistanceTol);
   EXPECT_TRUE(meshesOverlap(a, {}, b, at(0.98, 0.2, 0.1)));
 }
 

@@ -233,7 +233,7 @@ double polyOverlap(const PolyD& a, const PolyD& b, const Vec3d& u) {
 
 // The least overlap of the cores over the candidate axes (both signs): the core depth when the
 // cores overlap (> 0), <= 0 when some axis separates them.
-double satDepth(const PolyD& a, const PolyD& b, const std::vector<Vec3d>& axes) {
+double leastOverlap(const PolyD& a, const PolyD& b, const std::vector<Vec3d>& axes) {
   double best = std::numeric_limits<double>::infinity();
   for (const Vec3d& u : axes) best = std::min({best, polyOverlap(a, b, u), polyOverlap(a, b, -u)});
   return best;
@@ -305,7 +305,7 @@ Reference reference(const ShapeD& a, const ShapeD& b) {
   const PolyD ia = polytope(a, 1), ib = polytope(b, 1);
   const auto axes = candidateAxes(ia, ib);
   const bool curved = a.kind == Kind::Cylinder || b.kind == Kind::Cylinder;
-  const double inscribed = satDepth(ia, ib, axes);
+  const double inscribed = leastOverlap(ia, ib, axes);
   // The four best axes, each refined on the exact support functions.
   std::vector<std::pair<double, Vec3d>> scored;
   for (const Vec3d& u : axes)
@@ -321,7 +321,7 @@ Reference reference(const ShapeD& a, const ShapeD& b) {
   // Cores apart by the inscribed prisms: apart for good when the circumscribed ones are too.
   const PolyD oa = polytope(a, 1 / std::cos(M_PI / kSides)),
               ob = polytope(b, 1 / std::cos(M_PI / kSides));
-  const double outer = satDepth(oa, ob, axes);
+  const double outer = leastOverlap(oa, ob, axes);
   return {outer <= 0 ? -std::numeric_limits<double>::infinity() : 0.0, std::min(hi, outer), false};
 }
 

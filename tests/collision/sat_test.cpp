@@ -30,7 +30,7 @@ BoxPair randomPair(std::mt19937_64& rng) {
 
 // The queries add about ten products of unit-sized rotations and metre-sized extents and
 // offsets: a few ulps of the largest term, taken as 32 ulps of 4 m.
-const double kTol = 32 * kEps * 4;
+const double kSatTol = 32 * kEps * 4;
 
 }  // namespace
 
@@ -47,8 +47,8 @@ TEST(Sat, BoxBoxQueriesEqualTheGaussMapQueries) {
     const detail::FaceQuery faceB = detail::queryFaceDirections(b, a, aToB);
     const detail::EdgeQuery edge = detail::queryEdgeDirections(a, b, bToA);
 
-    ASSERT_NEAR(fast.faceA.separation, faceA.separation, kTol) << "trial " << trial;
-    ASSERT_NEAR(fast.faceB.separation, faceB.separation, kTol) << "trial " << trial;
+    ASSERT_NEAR(fast.faceA.separation, faceA.separation, kSatTol) << "trial " << trial;
+    ASSERT_NEAR(fast.faceB.separation, faceB.separation, kSatTol) << "trial " << trial;
     // The face must be the general query's, or one as good within rounding.
     const auto faceSeparation = [](const detail::PolyView& ref, const detail::PolyView& inc,
                                    const Transform& incToRef, int f) {
@@ -56,8 +56,8 @@ TEST(Sat, BoxBoxQueriesEqualTheGaussMapQueries) {
       const Vec3 dir = incToRef.q.conjugate() * (-n);
       return n.dot(incToRef.apply(inc.vertices[inc.supportIndex(dir)])) - ref.faces[f].offset;
     };
-    ASSERT_NEAR(faceSeparation(a, b, bToA, fast.faceA.face), faceA.separation, kTol);
-    ASSERT_NEAR(faceSeparation(b, a, aToB, fast.faceB.face), faceB.separation, kTol);
+    ASSERT_NEAR(faceSeparation(a, b, bToA, fast.faceA.face), faceA.separation, kSatTol);
+    ASSERT_NEAR(faceSeparation(b, a, aToB, fast.faceB.face), faceB.separation, kSatTol);
     faceChecked += 2;
 
     // Edges: the general query skips nothing the closed form keeps (both use the same
@@ -69,17 +69,17 @@ TEST(Sat, BoxBoxQueriesEqualTheGaussMapQueries) {
     const Vec3 dA = a.edgeDirection(edge.edgeA).normalized();
     const Vec3 dB = bToA.rotate(b.edgeDirection(edge.edgeB)).normalized();
     const double sine = dA.cross(dB).norm();
-    ASSERT_NEAR(fast.edge.separation, edge.separation, kTol / sine) << "trial " << trial;
+    ASSERT_NEAR(fast.edge.separation, edge.separation, kSatTol / sine) << "trial " << trial;
     ++edgeChecked;
     // The axis is unit, points from A to B, and the reported edges support it: the separation
     // along it measured from the two edges equals the reported one.
     ASSERT_NEAR(fast.edge.axis.norm(), 1, 8 * kEps);
     const Vec3 pa = a.vertices[a.edges[fast.edge.edgeA].v0];
     const Vec3 pb = bToA.apply(b.vertices[b.edges[fast.edge.edgeB].v0]);
-    ASSERT_NEAR(fast.edge.axis.dot(pb - pa), fast.edge.separation, kTol / sine)
+    ASSERT_NEAR(fast.edge.axis.dot(pb - pa), fast.edge.separation, kSatTol / sine)
         << "trial " << trial;
     ASSERT_LE(std::abs(fast.edge.axis.dot(a.edgeDirection(fast.edge.edgeA))),
-              kTol * a.edgeDirection(fast.edge.edgeA).norm());
+              kSatTol * a.edgeDirection(fast.edge.edgeA).norm());
     // Away from near-ties the same edge pair as the Gauss-map pruning.
     if (edge.edgeA == fast.edge.edgeA && edge.edgeB == fast.edge.edgeB) ++edgeIndexChecked;
   }
@@ -130,13 +130,13 @@ TEST(Sat, BoxBoxFastPathGivesTheGeneralManifold) {
     ContactManifold fast{}, general{};
     const bool hitFast = detail::collideBoxes(p.a, p.poseA, p.b, p.poseB, settings, fast);
     const bool hitGeneral = detail::collidePolyhedra(a, p.poseA, b, p.poseB, settings, general);
-    // Both paths reject on the same three separations (equal within kTol): a different answer
-    // is allowed only when one of them sits within kTol of the speculative distance.
+    // Both paths reject on the same three separations (equal within kSatTol): a different answer
+    // is allowed only when one of them sits within kSatTol of the speculative distance.
     if (hitFast != hitGeneral) {
       const Transform bToA = p.poseA.inverse() * p.poseB;
       const detail::BoxBoxQuery q = detail::queryBoxBox(p.a.halfExtents, p.b.halfExtents, bToA);
       const double worst = std::max({q.faceA.separation, q.faceB.separation, q.edge.separation});
-      ASSERT_NEAR(worst, settings.speculativeDistance, kTol) << "trial " << trial;
+      ASSERT_NEAR(worst, settings.speculativeDistance, kSatTol) << "trial " << trial;
       continue;
     }
     if (!hitFast) continue;
@@ -149,9 +149,9 @@ TEST(Sat, BoxBoxFastPathGivesTheGeneralManifold) {
       const ContactPoint& f = fast.points[std::size_t(k)];
       const ContactPoint& g = general.points[std::size_t(k)];
       ASSERT_EQ(f.id, g.id) << "trial " << trial << " point " << k;
-      ASSERT_LE((f.pointA - g.pointA).norm(), 8 * kTol) << "trial " << trial;
-      ASSERT_LE((f.pointB - g.pointB).norm(), 8 * kTol) << "trial " << trial;
-      ASSERT_NEAR(f.separation, g.separation, 8 * kTol) << "trial " << trial;
+      ASSERT_LE((f.pointA - g.pointA).norm(), 8 * kSatTol) << "trial " << trial;
+      ASSERT_LE((f.pointB - g.pointB).norm(), 8 * kSatTol) << "trial " << trial;
+      ASSERT_NEAR(f.separation, g.separation, 8 * kSatTol) << "trial " << trial;
     }
   }
   EXPECT_GT(touching, 5000);

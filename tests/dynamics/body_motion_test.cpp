@@ -6,14 +6,15 @@
 #include <cmath>
 #include <vector>
 
+#include "../step_constants.h"
 #include "inertia/core/math.h"
 #include "inertia/world/world.h"
 
 using namespace inertia;
+using inertia::test::kDt;
 
 namespace {
 
-constexpr Real kDt = Real(1.0 / 60);
 constexpr int kSteps = 60;
 
 struct Scene {

@@ -10,16 +10,16 @@
 #include <string>
 #include <vector>
 
+#include "../step_constants.h"
 #include "inertia/collision/contact.h"
 #include "inertia/core/error.h"
 #include "inertia/world/builders.h"
 #include "inertia/world/world.h"
 
 using namespace inertia;
+using inertia::test::kDt;
 
 namespace {
-
-constexpr Real kDt = Real(1.0 / 60.0);
 
 BodyId addGround(World& world, const Material& material = {}) {
   const BodyId g = world.createBody({.type = BodyType::Static});

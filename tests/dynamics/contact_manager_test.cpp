@@ -11,17 +11,18 @@
 #include <utility>
 #include <vector>
 
+#include "../step_constants.h"
 #include "inertia/collision/contact.h"
 #include "inertia/world/world.h"
 
 using namespace inertia;
+using inertia::test::kDt;
 
 namespace {
 
 using PairSet = std::set<std::pair<std::uint32_t, std::uint32_t>>;
 
 constexpr Real kRadius = Real(0.3);
-constexpr Real kDt = Real(1.0 / 60);
 
 struct ShapeAt {
   ShapeId shape;

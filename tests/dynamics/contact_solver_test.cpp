@@ -2,19 +2,21 @@
 // solves whose answers follow from the impulse equations by hand.
 #include "dynamics/contact_solver.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <random>
 #include <vector>
 
-#include <gtest/gtest.h>
+#include "../epsilon.h"
 
 using namespace inertia;
 using namespace inertia::detail;
+using inertia::test::kRealEps;
 
 namespace {
-constexpr Real kEps = std::numeric_limits<Real>::epsilon();
 
 // A unit-mass body with the inertia of a unit cube's 1/6 (kg m^2) moving at v.
 SolverBody body(const Vec3& v) {
@@ -64,12 +66,12 @@ TEST(ContactSolver, TangentBasisIsOrthonormalAndRightHanded) {
   for (int i = 0; i < 1000; ++i) normals.push_back(Vec3(Real(g(rng)), Real(g(rng)), Real(g(rng))).normalized());
   for (const Vec3& n : normals) {
     const auto t = tangentBasis(n);
-    EXPECT_NEAR(t[0].norm(), 1, 16 * kEps);
-    EXPECT_NEAR(t[1].norm(), 1, 16 * kEps);
-    EXPECT_NEAR(t[0].dot(n), 0, 16 * kEps);
-    EXPECT_NEAR(t[1].dot(n), 0, 16 * kEps);
-    EXPECT_NEAR(t[0].dot(t[1]), 0, 16 * kEps);
-    EXPECT_NEAR(t[0].cross(t[1]).dot(n), 1, 16 * kEps);
+    EXPECT_NEAR(t[0].norm(), 1, 16 * kRealEps);
+    EXPECT_NEAR(t[1].norm(), 1, 16 * kRealEps);
+    EXPECT_NEAR(t[0].dot(n), 0, 16 * kRealEps);
+    EXPECT_NEAR(t[1].dot(n), 0, 16 * kRealEps);
+    EXPECT_NEAR(t[0].dot(t[1]), 0, 16 * kRealEps);
+    EXPECT_NEAR(t[0].cross(t[1]).dot(n), 1, 16 * kRealEps);
   }
 }
 
@@ -79,13 +81,13 @@ TEST(ContactSolver, RigidRowStopsTheApproach) {
   std::vector<SolverBody> bodies{body(Vec3(0, -2, 0))};
   std::vector<ContactConstraint> cs{pointContact(0, 0)};
   computeMasses(cs[0], SolverBody{}, bodies[0]);
-  EXPECT_NEAR(cs[0].points[0].normalMass, 1, 4 * kEps);
+  EXPECT_NEAR(cs[0].points[0].normalMass, 1, 4 * kRealEps);
   BiasMode mode;
   mode.soft = false;
   mode.invH = 240;
   solve(cs, bodies, mode);
-  EXPECT_NEAR(bodies[0].v.y(), 0, 4 * kEps);
-  EXPECT_NEAR(cs[0].points[0].normalImpulse, 2, 4 * kEps);
+  EXPECT_NEAR(bodies[0].v.y(), 0, 4 * kRealEps);
+  EXPECT_NEAR(cs[0].points[0].normalImpulse, 2, 4 * kRealEps);
 }
 
 // A speculative point (gap s) lets the body close the gap within the substep and no more:
@@ -98,7 +100,7 @@ TEST(ContactSolver, SpeculativeRowAllowsClosingTheGapOnly) {
   BiasMode mode;
   mode.invH = invH;
   solve(cs, bodies, mode);
-  EXPECT_NEAR(bodies[0].v.y(), -s * invH, 8 * kEps * 5);
+  EXPECT_NEAR(bodies[0].v.y(), -s * invH, 8 * kRealEps * 5);
   bodies[0].v = Vec3(0, 1, 0);
   cs[0].points[0].normalImpulse = 0;
   solve(cs, bodies, mode);
@@ -119,10 +121,11 @@ TEST(ContactSolver, FrictionIsClampedToTheCone) {
   mode.invH = 240;
   solve(cs, bodies, mode);
   const ConstraintPoint& p = cs[0].points[0];
-  EXPECT_NEAR(p.normalImpulse, 1, 8 * kEps);
-  EXPECT_NEAR(std::hypot(p.tangentImpulse[0], p.tangentImpulse[1]), mu * p.normalImpulse, 8 * kEps);
+  EXPECT_NEAR(p.normalImpulse, 1, 8 * kRealEps);
+  EXPECT_NEAR(std::hypot(p.tangentImpulse[0], p.tangentImpulse[1]), mu * p.normalImpulse,
+              8 * kRealEps);
   EXPECT_LT(p.tangentImpulse[0], 0);  // opposes +x slip
-  EXPECT_NEAR(p.tangentImpulse[1], 0, 8 * kEps);
+  EXPECT_NEAR(p.tangentImpulse[1], 0, 8 * kRealEps);
 
   std::vector<SolverBody> slow{body(Vec3(Real(0.01), -1, 0))};
   std::vector<ContactConstraint> stick{pointContact(0, mu)};
@@ -148,7 +151,7 @@ TEST(ContactSolver, RestitutionReversesTheApproachSpeed) {
     mode.invH = 240;
     solve(cs, bodies, mode);
     applyRestitution(cs, bodies, 1);
-    EXPECT_NEAR(bodies[0].v.y(), approach > 1 ? Real(0.5) * approach : 0, 8 * kEps * approach);
+    EXPECT_NEAR(bodies[0].v.y(), approach > 1 ? Real(0.5) * approach : 0, 8 * kRealEps * approach);
   }
 }
 

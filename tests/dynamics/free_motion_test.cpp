@@ -1,18 +1,18 @@
 // Bodies without contacts: projectile motion under each integrator against the closed form,
 // and torque-free rotation against the conservation laws and the intermediate-axis theorem.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <limits>
 
-#include <gtest/gtest.h>
-
+#include "../epsilon.h"
 #include "inertia/core/error.h"
 #include "inertia/world/world.h"
 
 using namespace inertia;
+using inertia::test::kRealEps;
 
 namespace {
-
-constexpr Real kEps = std::numeric_limits<Real>::epsilon();
 
 struct Flight {
   Vec3 x;
@@ -38,11 +38,12 @@ TEST(FreeMotion, ProjectileIsExactWithRk4AndVelocityVerlet) {
   const Real t = Real(steps) * Real(1.0 / 60.0);
   const Vec3 exact = x0 + v0 * t + Real(0.5) * g * t * t;
   const Real scale = x0.norm() + v0.norm() * t + g.norm() * t * t;
-  const Real tol = Real(steps * 4) * 8 * kEps * scale;
+  const Real tol = Real(steps * 4) * 8 * kRealEps * scale;
   for (ode::Method m : {ode::Method::Rk4, ode::Method::VelocityVerlet}) {
     const Flight f = fly(m, x0, v0, steps);
     EXPECT_LT((f.x - exact).norm(), tol) << ode::methodName(m);
-    EXPECT_LT((f.v - (v0 + g * t)).norm(), Real(steps * 4) * 8 * kEps * (v0.norm() + g.norm() * t))
+    EXPECT_LT((f.v - (v0 + g * t)).norm(),
+              Real(steps * 4) * 8 * kRealEps * (v0.norm() + g.norm() * t))
         << ode::methodName(m);
   }
 }
@@ -58,7 +59,7 @@ TEST(FreeMotion, SymplecticEulerIsOffByItsFirstOrderTerm) {
   const Vec3 closed = x0 + v0 * t + Real(0.5) * g * t * t;
   const Vec3 predicted = closed + Real(0.5) * g * h * t;
   const Real scale = v0.norm() * t + g.norm() * t * t;
-  EXPECT_LT((f.x - predicted).norm(), Real(steps * 4) * 8 * kEps * scale);
+  EXPECT_LT((f.x - predicted).norm(), Real(steps * 4) * 8 * kRealEps * scale);
   EXPECT_GT((f.x - closed).norm(), Real(0.5) * Real(0.5) * g.norm() * h * t);  // the term is there
 }
 
@@ -104,7 +105,7 @@ TEST(FreeMotion, SpinningCubeTurnsAtConstantVelocity) {
   for (int i = 0; i < steps; ++i) world.step(Real(1.0 / 60.0));
   const Real t = Real(steps) * Real(1.0 / 60.0);
   const Quat exact = Quat(Eigen::AngleAxis<Real>(w0.norm() * t, w0.normalized())) * q0;
-  const Real tol = Real(steps * 4) * 8 * kEps;
+  const Real tol = Real(steps * 4) * 8 * kRealEps;
   EXPECT_LT(world.transform(b).q.angularDistance(exact), tol);
   EXPECT_LT((world.angularVelocity(b) - w0).norm(), tol * w0.norm());
 }

@@ -1,16 +1,18 @@
 // The rotational integrators against the conservation laws of torque-free motion.
 #include "dynamics/integrate.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <limits>
 
-#include <gtest/gtest.h>
+#include "../epsilon.h"
 
 using namespace inertia;
 using namespace inertia::detail;
+using inertia::test::kRealEps;
 
 namespace {
-constexpr Real kEps = std::numeric_limits<Real>::epsilon();
 Real energy(const Quat& principal, const Vec3& moments, const Vec3& L) {
   const Vec3 Lb = principal.conjugate() * L;
   return Real(0.5) * (Lb.array().square() / moments.array()).sum();
@@ -29,7 +31,7 @@ TEST(Integrate, SplittingKeepsMomentumAndBoundsEnergy) {
     splitFreeRotation(principal, moments, L, Real(0.025));
     worst = std::max(worst, std::abs(energy(principal, moments, L) - E0) / E0);
   }
-  EXPECT_NEAR(principal.norm(), 1, 8 * kEps);
+  EXPECT_NEAR(principal.norm(), 1, 8 * kRealEps);
   EXPECT_LT(worst, Real(0.01));  // (w h)^2 = 2.5e-3 times an O(1) factor
 }
 
@@ -38,7 +40,7 @@ TEST(Integrate, ImplicitGyroscopicLeavesASphereAlone) {
   const Quat q(Eigen::AngleAxis<Real>(Real(0.7), Vec3(1, 2, 3).normalized()));
   const Vec3 w(3, -1, 2);
   const Vec3 out = implicitGyroscopic(q, Mat3::Identity() * Real(0.4), w, Real(1.0 / 240.0));
-  EXPECT_LT((out - w).norm(), 16 * kEps * w.norm());
+  EXPECT_LT((out - w).norm(), 16 * kRealEps * w.norm());
 }
 
 // Backward Euler on Euler's equations is dissipative: a thin fast spinner never gains
@@ -59,7 +61,7 @@ TEST(Integrate, ImplicitGyroscopicNeverGainsEnergy) {
                                          (q.conjugate() * w).normalized())))
             .normalized();
     const Real e = ke(q, w);
-    ASSERT_LE(e, previous * (1 + 64 * kEps)) << "step " << i;
+    ASSERT_LE(e, previous * (1 + 64 * kRealEps)) << "step " << i;
     previous = e;
   }
   EXPECT_GT(previous, 0);

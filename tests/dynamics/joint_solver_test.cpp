@@ -10,15 +10,16 @@
 #include <utility>
 #include <vector>
 
+#include "../step_constants.h"
 #include "inertia/world/world.h"
 
 using namespace inertia;
+using inertia::test::kDt;
+using inertia::test::kG;
 
 namespace {
 
 constexpr Real kPi = Real(std::numbers::pi);
-constexpr Real kG = Real(9.81);
-constexpr Real kDt = Real(1.0 / 60);
 
 WorldSettings quietWorld() {
   WorldSettings s;
@@ -30,7 +31,7 @@ WorldSettings quietWorld() {
 // A sphere of radius r and density 1000 whose centre hangs at distance L from a pivot at the
 // origin, released at angle theta0 from the vertical in the x-y plane, on a hinge (axis z) or a
 // ball joint.
-struct Pendulum {
+struct SpherePendulum {
   World world{quietWorld()};
   BodyId bob;
   JointId joint;
@@ -38,7 +39,7 @@ struct Pendulum {
 
   enum class Kind { Hinge, Ball, SixDofHinge, SixDofBall };
 
-  Pendulum(Real theta0, Kind kind, SolverType solver = SolverType::SoftStep)
+  SpherePendulum(Real theta0, Kind kind, SolverType solver = SolverType::SoftStep)
       : world([&] {
           WorldSettings s = quietWorld();
           s.solver.type = solver;
@@ -98,10 +99,10 @@ struct Pendulum {
 // 1e-3 bound leaves room for the soft joint's damping of the amplitude over the ten periods
 // (the large-amplitude period depends on the amplitude), which the 0.5% would hide.
 TEST(JointPendulum, PeriodMatchesEllipticIntegralOnEveryJointThatAllowsTheSwing) {
-  using Kind = Pendulum::Kind;
+  using Kind = SpherePendulum::Kind;
   for (Kind kind : {Kind::Hinge, Kind::Ball, Kind::SixDofHinge, Kind::SixDofBall}) {
     for (Real theta0 : {Real(0.1), Real(1.5)}) {
-      Pendulum p(theta0, kind);
+      SpherePendulum p(theta0, kind);
       const double measured = p.period(11);
       EXPECT_NEAR(measured / p.exactPeriod(theta0), 1, 0.001)
           << "joint " << int(kind) << " theta0 " << theta0;
@@ -113,7 +114,7 @@ TEST(JointPendulum, PeriodMatchesEllipticIntegralOnEveryJointThatAllowsTheSwing)
 // solvers in their own passes before each substep's contacts): the same period.
 TEST(JointPendulum, PeriodIsTheSameWithRigidSolvers) {
   for (SolverType solver : {SolverType::Pgs, SolverType::LcpDantzig, SolverType::LcpLemke}) {
-    Pendulum p(Real(1.5), Pendulum::Kind::Hinge, solver);
+    SpherePendulum p(Real(1.5), SpherePendulum::Kind::Hinge, solver);
     EXPECT_NEAR(p.period(11) / p.exactPeriod(Real(1.5)), 1, 0.001) << solverName(solver);
   }
 }
@@ -125,13 +126,13 @@ namespace {
 // A chain of `count` capsules (half-height 0.2 m, radius 0.05 m, along y) hanging straight
 // down from the world on ball joints at their ends, the first one turning; the last one
 // carries a sphere `bobMassRatio` times as heavy as a link (none when 0).
-struct Chain {
+struct CapsuleChain {
   World world;
   std::vector<BodyId> links;
   std::vector<JointId> joints;
   BodyId bob;
 
-  Chain(int count, Real bobMassRatio, int threads = 1)
+  CapsuleChain(int count, Real bobMassRatio, int threads = 1)
       : world([&] {
           WorldSettings s = quietWorld();
           s.threads = threads;
@@ -179,13 +180,13 @@ struct Chain {
 // (F = 20 m g, m_eff = m / 2) by 40 g / (2 pi 120)^2 = 0.69 mm; the heavy bob's joints by up to
 // 2 (100 + 20) g / (2 pi 120)^2 = 4.1 mm.
 TEST(JointChain, TwentyLinksStayWithinAMillimetre) {
-  Chain c(20, 0);
+  CapsuleChain c(20, 0);
   for (int i = 0; i < 180; ++i) c.world.step(kDt);
   EXPECT_LT(c.worstError(), Real(0.001));
 }
 
 TEST(JointChain, HeavyBobOnALightChainStaysWithinACentimetre) {
-  Chain c(20, 100);
+  CapsuleChain c(20, 100);
   Real worst = 0;
   for (int i = 0; i < 180; ++i) {
     c.world.step(kDt);
@@ -195,7 +196,7 @@ TEST(JointChain, HeavyBobOnALightChainStaysWithinACentimetre) {
 }
 
 TEST(JointChain, SameBitsAtOneAndTwoThreads) {
-  Chain one(20, 10, 1), two(20, 10, 2);
+  CapsuleChain one(20, 10, 1), two(20, 10, 2);
   for (int i = 0; i < 120; ++i) {
     one.world.step(kDt);
     two.world.step(kDt);
@@ -378,10 +379,10 @@ TEST(JointPendulum, DoublePendulumKeepsItsEnergy) {
 // pendulum's bob within 1 mm after two seconds (the two differ in their rows' formulation,
 // each holding its anchors to ~2e-5 m, and the soft joints' damping).
 TEST(JointSixDof, FollowsTheDedicatedJoints) {
-  using Kind = Pendulum::Kind;
+  using Kind = SpherePendulum::Kind;
   for (auto [dedicated, six] :
        {std::pair{Kind::Hinge, Kind::SixDofHinge}, std::pair{Kind::Ball, Kind::SixDofBall}}) {
-    Pendulum a(Real(1.2), dedicated), b(Real(1.2), six);
+    SpherePendulum a(Real(1.2), dedicated), b(Real(1.2), six);
     for (int i = 0; i < 120; ++i) {
       a.world.step(kDt);
       b.world.step(kDt);
@@ -538,7 +539,7 @@ TEST(JointUniversal, OutputShaftFollowsCardansLaw) {
 // A snapshot (World::saveState) carries the joints with their warm-start impulses: the
 // restored world continues bit-identically.
 TEST(JointWorld, RestoredStateContinuesBitIdentically) {
-  Chain c(10, 5);
+  CapsuleChain c(10, 5);
   for (int i = 0; i < 30; ++i) c.world.step(kDt);
   const World::State saved = c.world.saveState();
   for (int i = 0; i < 30; ++i) c.world.step(kDt);

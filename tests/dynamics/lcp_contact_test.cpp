@@ -13,15 +13,15 @@
 #include <utility>
 #include <vector>
 
+#include "../step_constants.h"
 #include "inertia/dynamics/rigid_body_system.h"
 
 using namespace inertia;
+using inertia::test::kDt;
+using inertia::test::kG;
+using inertia::test::kSubsteps;
 
 namespace {
-
-constexpr Real kDt = Real(1.0 / 60.0);
-constexpr int kSubsteps = 4;
-constexpr Real kG = Real(9.81);
 
 DynamicsSettings settingsFor(SolverType type) {
   DynamicsSettings s;

@@ -14,13 +14,15 @@
 #include <optional>
 #include <random>
 
+#include "../epsilon.h"
+
 using namespace inertia::detail;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
+using inertia::test::kDoubleEps;
 
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // A random symmetric positive definite matrix B B^T + 0.1 I (its smallest eigenvalue is at
@@ -48,7 +50,7 @@ double condition(const MatrixXd& A) {
 // Forward error allowed for a solution computed by pivoting with backward-stable solves:
 // a multiple of cond * eps (the constant covers the O(n) pivots at n <= 8).
 double tolerance(const MatrixXd& A, const VectorXd& z) {
-  return 1e3 * condition(A) * kEps * (1 + z.cwiseAbs().maxCoeff());
+  return 1e3 * condition(A) * kDoubleEps * (1 + z.cwiseAbs().maxCoeff());
 }
 
 // Oracle: the standard LCP by trying all 2^n sets of positive z (the first one that is

@@ -7,15 +7,15 @@
 #include <cmath>
 #include <vector>
 
+#include "../step_constants.h"
 #include "inertia/world/world.h"
 
 using namespace inertia;
+using inertia::test::kDt;
+using inertia::test::kG;
+using inertia::test::kSubsteps;
 
 namespace {
-
-constexpr Real kDt = Real(1.0 / 60);
-constexpr Real kG = Real(9.81);
-constexpr int kSubsteps = 4;
 
 // The sum of the normal impulses (N s) over the contacts between body `a` and body `b`.
 Real normalImpulse(const RigidBodySystem& rb, BodyId a, BodyId b) {

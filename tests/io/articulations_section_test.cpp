@@ -6,28 +6,15 @@
 #include <string>
 
 #include "inertia/io/scene.h"
+#include "scene_error_test_util.h"
 
 using namespace inertia;
 using inertia::io::parseScene;
 using inertia::io::SceneError;
+using inertia::test::BadCase;
+using inertia::test::errorOf;
 
 namespace {
-
-SceneError errorOf(const std::string& text) {
-  try {
-    parseScene(text, "test.json");
-  } catch (const SceneError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no error for: " << text;
-  return SceneError("", "", "");
-}
-
-struct BadCase {
-  const char* text;
-  const char* pointer;
-  const char* words;
-};
 
 const char* kPendulum = R"({
   "articulations": [ { "name": "pendulum", "base": "fixed", "position": [0, 2, 0],

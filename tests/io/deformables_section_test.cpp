@@ -82,7 +82,7 @@ TEST(DeformablesSection, RopeSoftBodiesAndMesh) {
 }
 
 // A unit cube as an inline mesh shape (12 faces, counter-clockwise from outside).
-constexpr const char* kCube = R"("vertices": [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
+constexpr const char* kInlineCube = R"("vertices": [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
                                              [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]],
     "triangles": [[0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7], [0, 1, 5], [0, 5, 4],
                   [3, 7, 6], [3, 6, 2], [0, 4, 7], [0, 7, 3], [1, 2, 6], [1, 6, 5]])";
@@ -92,7 +92,8 @@ TEST(DeformablesSection, HairAndSoftBodiesFromMeshes) {
     { "type": "hair", "position": [0, 1.7, 0], "radius": 0.1, "cap_angle": 1.2, "strands": 30,
       "segments": 5, "length": 0.2, "mass": 0.01 },
     { "type": "soft_body", "position": [0, 1, 0], "resolution": 2,
-      "shape": { "type": "mesh", )" + std::string(kCube) + R"( } })");
+      "shape": { "type": "mesh", )" +
+                        std::string(kInlineCube) + R"( } })");
   ASSERT_EQ(s.deformables.size(), 2u);
   const MassSpringModel& hair = s.deformables[0].model;
   EXPECT_EQ(hair.vertexCount(), 30u * 6u);
@@ -128,7 +129,7 @@ TEST(DeformablesSection, ErrorsNameTheJsonPointer) {
   EXPECT_EQ(pointerOf(R"({"type": "soft_body", "shape": {"type": "cone"}})"),
             "/deformables/0/shape/type");
   // A cube without its last face is not closed.
-  std::string open(kCube);
+  std::string open(kInlineCube);
   open.erase(open.rfind(", [1, 6, 5]"), std::string(", [1, 6, 5]").size());
   EXPECT_EQ(pointerOf(R"({"type": "soft_body", "shape": {"type": "mesh", )" + open + "}}"),
             "/deformables/0/shape");

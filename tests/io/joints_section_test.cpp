@@ -7,31 +7,13 @@
 #include <vector>
 
 #include "inertia/io/scene.h"
+#include "scene_error_test_util.h"
 
 using namespace inertia;
 using inertia::io::parseScene;
 using inertia::io::SceneError;
-
-namespace {
-
-// Parses `text` expecting an error; returns it.
-SceneError errorOf(const std::string& text) {
-  try {
-    parseScene(text, "test.json");
-  } catch (const SceneError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no error for: " << text;
-  return SceneError("", "", "");
-}
-
-struct BadCase {
-  const char* text;
-  const char* pointer;  // expected JSON pointer
-  const char* words;    // expected in the reason
-};
-
-}  // namespace
+using inertia::test::BadCase;
+using inertia::test::errorOf;
 
 namespace {
 

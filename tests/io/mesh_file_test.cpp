@@ -18,8 +18,8 @@ using namespace inertia;
 namespace fs = std::filesystem;
 using io::detail::loadMeshVertices;
 
-namespace {
-
+// Outside the anonymous namespace: the tests derive from it, and in a unity batch, which
+// includes this file, GCC rejects a base of internal linkage (-Wsubobject-linkage).
 class MeshFile : public test::ScratchDirTest {
  protected:
   // The message loadMeshVertices gives for `path`, empty when it loads.
@@ -32,6 +32,8 @@ class MeshFile : public test::ScratchDirTest {
     return "";
   }
 };
+
+namespace {
 
 // The corners of the unit tetrahedron, sorted, and a mesh's distinct vertices, sorted.
 const std::vector<Vec3> kCorners = {Vec3(0, 0, 0), Vec3(0, 0, 1), Vec3(0, 1, 0), Vec3(1, 0, 0)};

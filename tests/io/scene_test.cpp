@@ -1,5 +1,7 @@
 #include "inertia/io/scene.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -7,26 +9,13 @@
 #include <variant>
 #include <vector>
 
-#include <gtest/gtest.h>
+#include "scene_error_test_util.h"
 
 using namespace inertia;
 using inertia::io::parseScene;
 using inertia::io::SceneError;
-
-namespace {
-
-// Parses `text` expecting an error; returns it.
-SceneError errorOf(const std::string& text) {
-  try {
-    parseScene(text, "test.json");
-  } catch (const SceneError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no error for: " << text;
-  return SceneError("", "", "");
-}
-
-}  // namespace
+using inertia::test::BadCase;
+using inertia::test::errorOf;
 
 TEST(Scene, DefaultsWhenWorldIsAbsent) {
   io::Scene s = parseScene("{}", "empty.json");
@@ -90,12 +79,6 @@ TEST(Scene, LcpSolversAreAccepted) {
     EXPECT_EQ(solverName(s.world.solver.type), name);
   }
 }
-
-struct BadCase {
-  const char* text;
-  const char* pointer;  // expected JSON pointer
-  const char* words;    // expected in the reason
-};
 
 class BadScene : public testing::TestWithParam<BadCase> {};
 

@@ -21,8 +21,8 @@ namespace art = inertia::articulation;
 namespace fs = std::filesystem;
 using io::UrdfError;
 
-namespace {
-
+// Outside the anonymous namespace: the tests derive from it, and in a unity batch, which
+// includes this file, GCC rejects a base of internal linkage (-Wsubobject-linkage).
 class Urdf : public test::ScratchDirTest {
  protected:
   // The reason loadUrdf gives for a file holding `text`.
@@ -39,6 +39,8 @@ class Urdf : public test::ScratchDirTest {
     return "";
   }
 };
+
+namespace {
 
 fs::path sourceDir() {
   const char* root = std::getenv("INERTIA_SOURCE_DIR");

@@ -16,10 +16,10 @@ namespace ode = inertia::ode;
 
 namespace {
 
-constexpr float kEps = std::numeric_limits<float>::epsilon();
+constexpr float kFloatEps = std::numeric_limits<float>::epsilon();
 
-void decay(float, ode::ConstView<float> y, ode::View<float> dy) { dy = -y; }
-void decay3(float, ode::ConstView<float, 3> y, ode::View<float, 3> dy) { dy = -y; }
+void floatDecay(float, ode::ConstView<float> y, ode::View<float> dy) { dy = -y; }
+void floatDecay3(float, ode::ConstView<float, 3> y, ode::View<float, 3> dy) { dy = -y; }
 
 }  // namespace
 
@@ -34,10 +34,10 @@ TEST(Float, FirstOrderSteppersOnEveryStateType) {
   std::vector<float> d(6, 1.0f);
   for (int i = 0; i < 100; ++i) {
     const float t = 0.01f * static_cast<float>(i);
-    ode::rk4(decay, t, 0.01f, a, ws);
-    ode::dormandPrince5(decay3, t, 0.01f, b, ws);
-    ode::rk4(decay, t, 0.01f, std::span<float>(c), ws);
-    ode::rk4(decay, t, 0.01f, Eigen::Map<Eigen::VectorXf>(d.data(), 6), ws);
+    ode::rk4(floatDecay, t, 0.01f, a, ws);
+    ode::dormandPrince5(floatDecay3, t, 0.01f, b, ws);
+    ode::rk4(floatDecay, t, 0.01f, std::span<float>(c), ws);
+    ode::rk4(floatDecay, t, 0.01f, Eigen::Map<Eigen::VectorXf>(d.data(), 6), ws);
   }
   EXPECT_NEAR(a[0], exact, 1e-5f);
   EXPECT_NEAR(b[2], exact, 1e-5f);
@@ -46,21 +46,21 @@ TEST(Float, FirstOrderSteppersOnEveryStateType) {
 
   // The remaining first-order steppers, once each: instantiation and a sane first step.
   Eigen::VectorXf y = Eigen::VectorXf::Ones(2);
-  ode::explicitEuler(decay, 0.0f, 0.1f, y, ws);
-  ode::midpoint(decay, 0.0f, 0.1f, y, ws);
-  ode::heun(decay, 0.0f, 0.1f, y, ws);
+  ode::explicitEuler(floatDecay, 0.0f, 0.1f, y, ws);
+  ode::midpoint(floatDecay, 0.0f, 0.1f, y, ws);
+  ode::heun(floatDecay, 0.0f, 0.1f, y, ws);
   ode::backwardEuler(
-      decay,
+      floatDecay,
       [](float, ode::ConstView<float>, ode::JacobianView<float> J) {
         J.diagonal().setConstant(-1);
       },
       0.0f, 0.1f, y, ws);
   ode::backwardEulerMatrixFree(
-      decay,
+      floatDecay,
       [](float, ode::ConstView<float>, ode::ConstView<float> w, ode::View<float> out) { out = -w; },
       0.0f, 0.1f, y, ws);
   // 0.9 * 0.905 * 0.905 / 1.1 / 1.1 in exact arithmetic.
-  EXPECT_NEAR(y[0], 0.9f * 0.905f * 0.905f / 1.1f / 1.1f, 20 * kEps);
+  EXPECT_NEAR(y[0], 0.9f * 0.905f * 0.905f / 1.1f / 1.1f, 20 * kFloatEps);
 }
 
 TEST(Float, GenericStepOnSpansWithRealScalar) {
@@ -90,9 +90,9 @@ TEST(Float, AdaptiveControllers) {
   ode::DormandPrince45<float> dp;
   ode::StepDoubling<float> sd;
   const ode::AdaptiveOptions<float> options{.absoluteTolerance = 1e-5f, .relativeTolerance = 1e-5f};
-  const auto r1 = dp.integrate(decay, 0.0f, Eigen::VectorXf::Ones(3).eval(), 2.0f, options);
+  const auto r1 = dp.integrate(floatDecay, 0.0f, Eigen::VectorXf::Ones(3).eval(), 2.0f, options);
   std::vector<float> y(3, 1.0f);
-  const auto r2 = sd.integrateInPlace(decay, 0.0f, std::span<float>(y), 2.0f, options);
+  const auto r2 = sd.integrateInPlace(floatDecay, 0.0f, std::span<float>(y), 2.0f, options);
   ASSERT_TRUE(r1.stats.ok()) << r1.stats.message;
   ASSERT_TRUE(r2.ok()) << r2.message;
   // Contractive problem: global error <= sum of per-step tolerances (each <= 2e-5) over the

@@ -15,9 +15,9 @@ namespace ode = inertia::ode;
 namespace {
 
 constexpr int kParticles = 1000;
-constexpr float kH = 0.01f;
+constexpr float kParticleH = 0.01f;
 constexpr float kDamping = 0.1f;
-constexpr int kSteps = 200;
+constexpr int kParticleSteps = 200;
 
 std::vector<float> omegaSquared() {
   std::vector<float> w2(kParticles);
@@ -75,11 +75,12 @@ TEST_P(ParticleBatch, SpanAndMapGiveTheSameNumbersAsOneParticleAtATime) {
 
   Particles viaSpan, viaMap;
   ode::Workspace<float> wsSpan(kParticles), wsMap(kParticles);
-  for (int n = 0; n < kSteps; ++n) {
-    const float t = static_cast<float>(n) * kH;
-    ode::step(method, system, t, kH, std::span<float>(viaSpan.x), std::span<float>(viaSpan.v),
-              wsSpan, linear);
-    ode::step(method, system, t, kH, Eigen::Map<Eigen::VectorXf>(viaMap.x.data(), kParticles),
+  for (int n = 0; n < kParticleSteps; ++n) {
+    const float t = static_cast<float>(n) * kParticleH;
+    ode::step(method, system, t, kParticleH, std::span<float>(viaSpan.x),
+              std::span<float>(viaSpan.v), wsSpan, linear);
+    ode::step(method, system, t, kParticleH,
+              Eigen::Map<Eigen::VectorXf>(viaMap.x.data(), kParticles),
               Eigen::Map<Eigen::VectorXf>(viaMap.v.data(), kParticles), wsMap, linear);
   }
 
@@ -88,9 +89,9 @@ TEST_P(ParticleBatch, SpanAndMapGiveTheSameNumbersAsOneParticleAtATime) {
     const ode::SecondOrderSystem one{
         .acceleration = Springs{&w2[i]}, .dadx = SpringsDadx{&w2[i]}, .dadv = SpringsDadv{}};
     ode::Workspace<float> ws(1);  // each particle its own workspace (Verlet keeps history)
-    for (int n = 0; n < kSteps; ++n)
-      ode::step(method, one, static_cast<float>(n) * kH, kH, std::span<float>(&alone.x[i], 1),
-                std::span<float>(&alone.v[i], 1), ws, linear);
+    for (int n = 0; n < kParticleSteps; ++n)
+      ode::step(method, one, static_cast<float>(n) * kParticleH, kParticleH,
+                std::span<float>(&alone.x[i], 1), std::span<float>(&alone.v[i], 1), ws, linear);
   }
 
   for (int i = 0; i < kParticles; ++i) {
@@ -121,13 +122,13 @@ TEST(ParticleBatch, SubrangeOfABufferStepsInPlace) {
   Particles all, copy;
   ode::Workspace<float> ws(kParticles);
   const std::span<float> x(all.x), v(all.v);
-  ode::step(ode::Method::SymplecticEuler, Springs{w2.data()}, 0.0f, kH, x.first(500), v.first(500),
-            ws);
+  ode::step(ode::Method::SymplecticEuler, Springs{w2.data()}, 0.0f, kParticleH, x.first(500),
+            v.first(500), ws);
   for (int i = 0; i < kParticles; ++i) {
     if (i < 500) {
-      const float vi = copy.v[i] + kH * (-w2[i] * copy.x[i] - kDamping * copy.v[i]);
+      const float vi = copy.v[i] + kParticleH * (-w2[i] * copy.x[i] - kDamping * copy.v[i]);
       ASSERT_EQ(all.v[i], vi);
-      ASSERT_EQ(all.x[i], copy.x[i] + kH * vi);
+      ASSERT_EQ(all.x[i], copy.x[i] + kParticleH * vi);
     } else {
       ASSERT_EQ(all.x[i], copy.x[i]);
       ASSERT_EQ(all.v[i], copy.v[i]);

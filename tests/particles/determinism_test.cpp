@@ -23,7 +23,7 @@ ParticleSystem makeSystem(bool granular) {
   return ps;
 }
 
-bool sameBytes(const ParticlePool& a, const ParticlePool& b) {
+bool samePoolBytes(const ParticlePool& a, const ParticlePool& b) {
   auto same = [](auto x, auto y) {
     return x.size() == y.size() && std::memcmp(x.data(), y.data(), x.size_bytes()) == 0;
   };
@@ -42,7 +42,7 @@ TEST(ParticleDeterminism, SameBytesAtOneAndTwoThreads) {
       b.step(Real(1.0 / 60), &two);
     }
     ASSERT_GT(a.pool().size(), 3 * 2048u) << "the test needs several batches of 2048";
-    EXPECT_TRUE(sameBytes(a.pool(), b.pool())) << (granular ? "granular" : "plain");
+    EXPECT_TRUE(samePoolBytes(a.pool(), b.pool())) << (granular ? "granular" : "plain");
   }
 }
 

@@ -68,9 +68,9 @@ namespace inertia::detail {
 void PrintTo(SimdLevel isa, std::ostream* os) { *os << simdLevelName(isa); }
 }  // namespace inertia::detail
 
-namespace {
-
 // Runs a test body with the kernels forced to one instruction set, restoring the choice after.
+// Outside the anonymous namespace: the tests derive from it, and in a unity batch, which
+// includes this file, GCC rejects a base of internal linkage (-Wsubobject-linkage).
 class ParticleSimdTest : public testing::TestWithParam<SimdLevel> {
  protected:
   void SetUp() override {
@@ -82,6 +82,8 @@ class ParticleSimdTest : public testing::TestWithParam<SimdLevel> {
  private:
   SimdLevel previous_ = detail::bestParticleSimd();
 };
+
+namespace {
 
 std::string isaName(const testing::TestParamInfo<SimdLevel>& info) {
   return detail::simdLevelName(info.param);

@@ -19,7 +19,7 @@ ParticleSystem systemWith(ode::Method method, std::vector<ForceField> fields, st
 }
 
 // The shared immortal particle, with a mass (the closed forms below use 1 kg by default).
-ParticlePool::Spawn particle(const Vec3& x, const Vec3& v, Real m = 1) {
+ParticlePool::Spawn particleOfMass(const Vec3& x, const Vec3& v, Real m = 1) {
   ParticlePool::Spawn s = test::particle(x, v);
   s.mass = m;
   return s;
@@ -34,7 +34,7 @@ TEST(ParticleMotion, FallWithLinearDragMatchesTheClosedForm) {
   const double exact = vt + (v0 - vt) * std::exp(-double(k) * T / double(m));
   auto finalVelocity = [&](ode::Method method, int steps) {
     ParticleSystem ps = systemWith(method, {{GravityField{Vec3(0, -g, 0)}}, {LinearDragField{k}}});
-    ps.pool().add(particle(Vec3::Zero(), Vec3(0, Real(v0), 0), m));
+    ps.pool().add(particleOfMass(Vec3::Zero(), Vec3(0, Real(v0), 0), m));
     for (int i = 0; i < steps; ++i) ps.step(T / Real(steps));
     return double(ps.pool().velocity(0).y());
   };
@@ -52,7 +52,7 @@ TEST(ParticleMotion, ProjectileIsExactWithRk4AndVelocityVerlet) {
   // derivatives of a, which vanish).
   for (ode::Method method : {ode::Method::Rk4, ode::Method::VelocityVerlet}) {
     ParticleSystem ps = systemWith(method, {{GravityField{Vec3(0, -9.81f, 0)}}});
-    ps.pool().add(particle(Vec3::Zero(), Vec3(3, 10, -1)));
+    ps.pool().add(particleOfMass(Vec3::Zero(), Vec3(3, 10, -1)));
     for (int i = 0; i < 120; ++i) ps.step(Real(1.0 / 60));
     const Real t = Real(120.0 / 60);
     const Vec3 expected = Vec3(3, 10, -1) * t + Real(0.5) * Vec3(0, -9.81f, 0) * t * t;
@@ -67,7 +67,7 @@ TEST(ParticleMotion, VortexGivesThePromisedAngularVelocity) {
   // float rounding of the position (~1e-6 over 1000 steps) dominates.
   const Real omega = 3, r = Real(0.8), T = Real(4);
   ParticleSystem ps = systemWith(ode::Method::Rk4, {{VortexField{.angularSpeed = omega, .coreRadius = 2}}});
-  ps.pool().add(particle(Vec3(r, 0, 0), Vec3(0, 0, -omega * r)));
+  ps.pool().add(particleOfMass(Vec3(r, 0, 0), Vec3(0, 0, -omega * r)));
   const int steps = 960;
   for (int i = 0; i < steps; ++i) ps.step(T / Real(steps));
   const Vec3 x = ps.pool().position(0);
@@ -78,7 +78,7 @@ TEST(ParticleMotion, VortexGivesThePromisedAngularVelocity) {
   // velocity is within e^{-20} of omega, on the same radius (the centripetal term follows its
   // own speed); RK4's error is far below float rounding here.
   ParticleSystem rest = systemWith(ode::Method::Rk4, {{VortexField{.angularSpeed = omega, .coreRadius = 2, .tightness = 5}}});
-  rest.pool().add(particle(Vec3(r, 0, 0), Vec3::Zero()));
+  rest.pool().add(particleOfMass(Vec3(r, 0, 0), Vec3::Zero()));
   for (int i = 0; i < steps; ++i) rest.step(T / Real(steps));
   const Vec3 p = rest.pool().position(0), v = rest.pool().velocity(0);
   const Real angular = (p.cross(v)).y() / p.squaredNorm();
@@ -92,8 +92,8 @@ TEST(ParticleMotion, SpringsConserveEnergyWithSymplecticEuler) {
   // the deviation stays below omega h (here 0.1) while explicit Euler's grows without bound.
   auto run = [](ode::Method method, int steps) {
     ParticleSystem ps({.capacity = 4, .integrator = method});
-    ps.pool().add(particle(Vec3(0, 0, 0), Vec3(0, 0, 0)));
-    ps.pool().add(particle(Vec3(1.5f, 0, 0), Vec3(0, 0.3f, 0)));
+    ps.pool().add(particleOfMass(Vec3(0, 0, 0), Vec3(0, 0, 0)));
+    ps.pool().add(particleOfMass(Vec3(1.5f, 0, 0), Vec3(0, 0.3f, 0)));
     ps.addSpring({.a = 0, .b = 1, .restLength = 1, .stiffness = 100});
     const double e0 = ps.kineticEnergy() + ps.springEnergy();
     double worst = 0;
@@ -127,7 +127,7 @@ TEST(ParticleMotion, BackwardEulerWorksOnFieldsWithoutJacobians) {
   // is v_{n+1} = v_n / (1 + k h / m) per step: compare with that closed form.
   const Real k = 4, m = 1, h = Real(0.1);
   ParticleSystem ps = systemWith(ode::Method::BackwardEuler, {{LinearDragField{k}}});
-  ps.pool().add(particle(Vec3::Zero(), Vec3(10, 0, 0), m));
+  ps.pool().add(particleOfMass(Vec3::Zero(), Vec3(10, 0, 0), m));
   for (int i = 0; i < 10; ++i) ps.step(h);
   const double expected = 10 / std::pow(1 + double(k * h / m), 10);
   // The solve stops at a relative residual sqrt(eps) (3.5e-4 in float) per step.

@@ -2,16 +2,19 @@
 // physics.
 #include "inertia/world/builders.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string_view>
 
-#include <gtest/gtest.h>
-
+#include "../step_constants.h"
 #include "inertia/core/error.h"
 
 using namespace inertia;
+using inertia::test::kDt;
+using inertia::test::kG;
 
 TEST(Builders, PyramidRowsTouch) {
   const auto boxes = pyramid({.base = 40});
@@ -64,9 +67,6 @@ TEST(Builders, BadSettingsThrow) {
 // a bridge hanging as the discrete catenary and breaking only above the catenary's tension).
 
 namespace {
-
-constexpr Real kDt = Real(1.0 / 60);
-constexpr Real kG = Real(9.81);
 
 Real worstPositionError(const World& world) {
   Real worst = 0;

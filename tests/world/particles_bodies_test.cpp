@@ -5,18 +5,14 @@
 #include <cmath>
 #include <numbers>
 
+#include "../particles/particle_test_util.h"
+#include "../step_constants.h"
 #include "inertia/collision/queries.h"
 #include "inertia/world/world.h"
-#include "../particles/particle_test_util.h"
 
 using namespace inertia;
+using inertia::test::kG;
 using inertia::test::particle;
-
-namespace {
-
-constexpr Real kG = Real(9.81);
-
-}  // namespace
 
 TEST(WorldParticlesBodies, RestingParticlesRideAMovingPlatform) {
   // A kinematic box (top at y = 0.5) moving along x at u = 1.5 m/s; particles on its top at rest

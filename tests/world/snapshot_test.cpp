@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "../step_constants.h"
 #include "inertia/articulation/builders.h"
 #include "inertia/core/error.h"
 #include "inertia/deformable/generators.h"
@@ -13,9 +14,10 @@
 #include "inertia/world/world.h"
 
 namespace inertia {
-namespace {
 
-constexpr Real kDt = Real(1) / 60;
+using test::kDt;
+
+namespace {
 
 template <class T>
 void appendBytes(std::string& out, const T& value) {
