@@ -26,7 +26,6 @@ constexpr double kSmallestStep = 1e-8;
 // derived from the number of workers: it sets the sum's association).
 constexpr std::size_t kSpringGrain = 1024, kVertexGrain = 512, kChunk = 1024;
 
-
 }  // namespace
 
 namespace {
@@ -38,9 +37,8 @@ void parallelItems(StepWorkers* workers, std::size_t count, std::size_t grain, F
     for (std::size_t i = first; i < last; ++i) f(i);
   };
   if (workers)
-    workers->parallelFor(count, grain, [&](std::size_t first, std::size_t last) {
-      block(first, last);
-    });
+    workers->parallelFor(count, grain,
+                         [&](std::size_t first, std::size_t last) { block(first, last); });
   else
     block(0, count);
 }
@@ -152,7 +150,7 @@ const Eigen::VectorXd& ImplicitEuler::gradient(const Eigen::VectorXd& v) {
         h * (a.k * (seg(x_, a.vertex) - a.target) + a.c * (seg(v, a.vertex) - a.velocity));
   // What holds a contact: M (v - v0) = h F + lambda n there, so G = lambda n.
   for (std::size_t k = 0; k < in_->contacts.size(); ++k) {
-    ContactConstraint& c = in_->contacts[k];
+    VertexContact& c = in_->contacts[k];
     c.impulse = held_[k] ? c.normal.dot(seg(g_, c.vertex)) : 0.0;
   }
   filter(g_);
@@ -251,7 +249,7 @@ void ImplicitEuler::filter(Eigen::VectorXd& w) const {
   filterPinned(w);
   for (std::size_t k = 0; k < in_->contacts.size(); ++k) {
     if (!held_[k]) continue;
-    const ContactConstraint& c = in_->contacts[k];
+    const VertexContact& c = in_->contacts[k];
     auto wi = w.segment<3>(3 * Eigen::Index(c.vertex));
     wi -= c.normal * c.normal.dot(wi);
   }
@@ -405,7 +403,7 @@ ImplicitSolveReport ImplicitEuler::step(const ImplicitEulerInput& in, Real hr, s
   v_ = v0_;
   // Held vertices start at their prescribed normal velocity (the filter keeps it there), pinned
   // ones at rest.
-  for (const ContactConstraint& c : in.contacts) {
+  for (const VertexContact& c : in.contacts) {
     auto vi = v_.segment<3>(3 * Eigen::Index(c.vertex));
     vi += c.normal * (c.normalVelocity - c.normal.dot(vi));
   }
@@ -417,7 +415,7 @@ ImplicitSolveReport ImplicitEuler::step(const ImplicitEulerInput& in, Real hr, s
     finite = newton(in, reference(), report);
   if (!finite) {
     report.converged = false;
-    for (ContactConstraint& c : in.contacts) c.impulse = 0;
+    for (VertexContact& c : in.contacts) c.impulse = 0;
     previousChange_.resize(0);
     return report;
   }

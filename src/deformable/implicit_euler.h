@@ -55,7 +55,10 @@ struct AttachmentTerm {
 /// A vertex touching a body, held in the solve (Baraff and Witkin's constrained vertices,
 /// section 5.3: the filter S = I - n n^T) to the normal velocity `normalVelocity` (m/s) along
 /// `normal`; the solve's unbalanced gradient there is the contact impulse, handed to the body.
-struct ContactConstraint {
+/// (Not `ContactConstraint`: the dynamics layer's struct of that name lives in this namespace
+/// too, and two definitions of one name broke the one-definition rule: the vectors of both
+/// shared one instantiation, which overflowed a buffer under the fuzzer's ASan build.)
+struct VertexContact {
   std::uint32_t vertex = 0;
   Eigen::Vector3d normal = Eigen::Vector3d::UnitY();
   double normalVelocity = 0;
@@ -76,7 +79,7 @@ struct ImplicitEulerInput {
   /// step's PCG stops at a relative residual between tolerance and 0.1 (inexact Newton).
   std::span<const AttachmentTerm> attachments = {};
   /// In and out: contacts are released (impulse 0, left out of the filter) when they would pull.
-  std::span<ContactConstraint> contacts = {};
+  std::span<VertexContact> contacts = {};
   double tolerance = 1e-6;
   int maxIterations = 1000;  ///< PCG iterations per Newton step
   int maxNewtonIterations = 20;
@@ -125,11 +128,11 @@ class ImplicitEuler {
 
   const ImplicitEulerInput* in_ = nullptr;
   double h_ = 0;
-  std::vector<std::uint8_t> held_;       // per contact: still in the filter
-  std::vector<Eigen::Vector3d> u0_;      // each spring's direction at the start (0: collapsed)
-  std::vector<SymmetricBlock> blocks_;   // h^2 K~ + h c u0 u0^T per spring, at the last iterate
+  std::vector<std::uint8_t> held_;      // per contact: still in the filter
+  std::vector<Eigen::Vector3d> u0_;     // each spring's direction at the start (0: collapsed)
+  std::vector<SymmetricBlock> blocks_;  // h^2 K~ + h c u0 u0^T per spring, at the last iterate
   std::vector<SymmetricBlock> inverseBlocks_;  // per vertex: H's diagonal block, inverted
-  std::vector<std::uint32_t> pinnedList_;  // the pinned vertices, for the filters
+  std::vector<std::uint32_t> pinnedList_;      // the pinned vertices, for the filters
   // Each vertex's springs in spring order, with the sign of the spring's term at this end (+1
   // at a, -1 at b); vertex i's run is incident_[firstIncident_[i] .. firstIncident_[i + 1]).
   struct Incidence {
@@ -146,8 +149,8 @@ class ImplicitEuler {
   // State carried from step to step (copied with the deformable): the last step's velocity
   // change, Newton's second starting guess (implicit_euler.cpp, predict).
   Eigen::VectorXd previousChange_;
-  Eigen::VectorXd anchorDiagonal_;       // h^2 k + h c of the attachments, per component
-  Eigen::VectorXd diagonal_;             // M^ + the attachments' part: H's diagonal before springs
+  Eigen::VectorXd anchorDiagonal_;  // h^2 k + h c of the attachments, per component
+  Eigen::VectorXd diagonal_;        // M^ + the attachments' part: H's diagonal before springs
   Eigen::VectorXd x0_, v0_, v_, x_, f0_, massDiagonal_, g_, p_, trial_;
   PcgBuffers pcg_;
 };

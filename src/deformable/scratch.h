@@ -20,9 +20,9 @@ struct Deformable::Scratch {
   std::vector<Real> startVelocity;      // velocities at the step's start (explicit methods)
   detail::ImplicitEuler implicit;
   std::vector<detail::AttachmentTerm> attachments;  // the implicit step's view of attachments_
-  std::vector<detail::ContactConstraint> contacts;  // vertices held against dynamic bodies
+  std::vector<detail::VertexContact> contacts;      // vertices held against dynamic bodies
   std::vector<std::size_t> contactObstacles;  // each one's index into moving_, or a static one
-  std::vector<Aabb> obstacleBounds;  // world bounds of obstacles_, then of moving_
+  std::vector<Aabb> obstacleBounds;           // world bounds of obstacles_, then of moving_
   DeformableCollisionCache selfCollision;
 };
 
