@@ -17,6 +17,9 @@ Articulation<S>::Articulation(Model<S> model, const ArticulationSettings<S>& set
           "articulation: settings.constraintIterations must be in 1..1000");
   require(settings.limitBaumgarte >= 0 && settings.limitBaumgarte <= 1,
           "articulation: settings.limitBaumgarte must be in [0, 1]");
+  require(std::isfinite(settings.maxLinearSpeed) && settings.maxLinearSpeed > 0 &&
+              std::isfinite(settings.maxAngularSpeed) && settings.maxAngularSpeed > 0,
+          "articulation: settings.maxLinearSpeed and maxAngularSpeed must be finite and > 0");
   if (const int i = firstLinkMovingNoMass(model_); i >= 0)
     require(false, "articulation: link " + std::to_string(i) + " '" + model_.link(i).name +
                        "': its joint moves no mass (the link and its descendants are massless)");
@@ -89,6 +92,7 @@ void Articulation<S>::step(S h) {
   buildJointRows(h);
   solveJointRows();
   gatherImpulses();
+  clampSpeeds();
   qdSmooth_ = qd_ - qdSmooth_;
   integrateConfiguration<S>(model_, q_, qdSmooth_, h);
   recoverLimits();
@@ -112,11 +116,42 @@ void Articulation<S>::smoothVelocity(S h) {
 
 template <class S>
 void Articulation<S>::integratePosition(S h) {
+  clampSpeeds();
   integrateConfiguration<S>(model_, q_, qd_, h);
   recoverLimits();
   gatherImpulses();
   aimLimits(q_, h, false);
   retargetLimitRows();
+}
+
+// Each joint's speed scaled down to the settings' guards (a vector's norm, not per component,
+// so its direction is kept).
+template <class S>
+void Articulation<S>::clampSpeeds() {
+  const auto clamp = [](auto v, S limit) {
+    const S n = v.norm();
+    if (n > limit) v *= limit / n;
+  };
+  const S linear = settings_.maxLinearSpeed, angular = settings_.maxAngularSpeed;
+  for (const Link<S>& l : model_.links()) {
+    switch (l.joint) {
+      case JointType::Revolute:
+        clamp(qd_.segment(l.vIndex, 1), angular);
+        break;
+      case JointType::Prismatic:
+        clamp(qd_.segment(l.vIndex, 1), linear);
+        break;
+      case JointType::Spherical:
+        clamp(qd_.template segment<3>(l.vIndex), angular);
+        break;
+      case JointType::Floating:  // [w; v]
+        clamp(qd_.template segment<3>(l.vIndex), angular);
+        clamp(qd_.template segment<3>(l.vIndex + 3), linear);
+        break;
+      case JointType::Fixed:
+        break;
+    }
+  }
 }
 
 // RK4 on y = (q, qd): y' = (dq/dt(q, qd), aba(q, qd, tau)); quaternions renormalised after.

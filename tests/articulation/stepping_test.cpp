@@ -250,6 +250,36 @@ TEST(Stepping, VelocityLimitCapsTheSpeed) {
   EXPECT_NEAR(a.qd()(0), 0.5, 1e-15);
 }
 
+// The speed guards scale each joint's speed down before the position update, the way a rigid
+// body's caps do: a slider pushed past its guard moves exactly h maxLinearSpeed a step, and a
+// floating link spun at 1e6 rad/s (struck by something fast) turns by h maxAngularSpeed, where
+// semi-implicit Euler's explicit centrifugal terms at |w| h = 10 rad would diverge.
+TEST(Stepping, SpeedGuardsCapEveryJointsSpeed) {
+  Articulation<double> a(slider(1, {}), {.maxLinearSpeed = 2});
+  a.setState(scalar(0), scalar(5));
+  a.step(0.01);
+  EXPECT_NEAR(a.q()(0), 0.01 * 2, 1e-15);
+  EXPECT_NEAR(a.qd()(0), 2, 1e-15);
+
+  Model<double> model;
+  model.gravity.setZero();
+  model.addLink(
+      {.name = "rod",
+       .joint = {.type = JointType::Floating},
+       .inertia = {1, Vector3<double>::Zero(), Vector3<double>(1, 0.01, 1).asDiagonal()}});
+  Articulation<double> spun(model);
+  VectorX<double> qd(6);
+  qd << 6e5, 8e5, 0, 3e5, 0, -4e5;  // |w| = 1e6 rad/s, |v| = 5e5 m/s
+  spun.setState(model.neutralConfiguration(), qd);
+  for (int i = 0; i < 10; ++i) spun.step(1e-5);
+  ASSERT_TRUE(spun.q().allFinite() && spun.qd().allFinite());
+  EXPECT_LE(spun.qd().head<3>().norm(), 200 * (1 + 1e-12));
+  EXPECT_LE(spun.qd().tail<3>().norm(), 400 * (1 + 1e-12));
+  // The first step moves the origin by h v, v the initial velocity's direction at 400 m/s.
+  EXPECT_LE(spun.q().head<3>().norm(), 10 * 1e-5 * 400 * (1 + 1e-12));
+  EXPECT_THROW(Articulation<double>(model, {.maxAngularSpeed = 0}), inertia::InvalidArgument);
+}
+
 // A double pendulum thrown against limits on both joints, under gravity: each step ends at the
 // limit (an inelastic stop), the two rows coupled through the mass matrix. Gauss-Seidel on two
 // rows contracts the error by c^2 per sweep, c = |M12| / sqrt(M11 M22) of M = H^-1; with c^2

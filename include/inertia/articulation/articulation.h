@@ -39,7 +39,15 @@ struct ArticulationSettings {
   /// Gauss-Seidel sweeps over the rows per step() (1..1000). In a World the rows are swept
   /// with the contacts instead, once per solver and relax iteration (the world's iterations).
   int constraintIterations = 20;
-  S limitBaumgarte = S(0.2);      ///< Fraction of a limit's violation removed per step (0..1).
+  S limitBaumgarte = S(0.2);  ///< Fraction of a limit's violation removed per step (0..1).
+  /// Speed guards, as a rigid body's (BodySettings): before each position update every joint's
+  /// speed is scaled down to at most these, the norm of a spherical joint's or a floating
+  /// base's angular velocity (rad/s, > 0) and of a prismatic joint's or a floating base's
+  /// linear velocity (m/s, > 0). They keep semi-implicit Euler's explicit Coriolis and
+  /// centrifugal terms stable (|qd| h of order one diverges) when a link is struck by
+  /// something fast; unlike the joints' velocity limits they are not constraint rows.
+  S maxLinearSpeed = S(400);
+  S maxAngularSpeed = S(200);
 };
 
 template <class S>
@@ -101,6 +109,7 @@ class Articulation {
   void solveJointRows();
   void gatherImpulses();
   void recoverLimits();
+  void clampSpeeds();
 
   Model<S> model_;
   ArticulationSettings<S> settings_;
