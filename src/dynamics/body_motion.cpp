@@ -8,6 +8,20 @@
 
 namespace inertia::detail {
 
+namespace {
+
+// Scales v and w down to the body's speed limits; true when w was.
+bool capSpeeds(const BodyRecord& b, Vec3& v, Vec3& w) {
+  const Real vn = v.norm();
+  if (vn > b.maxLinearSpeed) v *= b.maxLinearSpeed / vn;
+  const Real wn = w.norm();
+  if (!(wn > b.maxAngularSpeed)) return false;
+  w *= b.maxAngularSpeed / wn;
+  return true;
+}
+
+}  // namespace
+
 void finalizeBodies(RigidBodyData& D, const DynamicsSettings& s, Real dt, StepWorkers& workers,
                     void (*beside)(RigidBodyData&)) {
   const std::uint32_t bodyCount = static_cast<std::uint32_t>(D.bodies.size());
@@ -29,6 +43,10 @@ void finalizeBodies(RigidBodyData& D, const DynamicsSettings& s, Real dt, StepWo
             const SolverBody& sb = D.solverBodies[static_cast<std::size_t>(k)];
             b.v = sb.v;
             b.w = sb.w;
+            // The positions moved at capped speeds (integratePositions); the velocities left by
+            // the relax and restitution passes are capped too, so that no step starts beyond
+            // the caps (a feather struck by a far-reaching spinning hull).
+            if (b.type == BodyType::Dynamic) capSpeeds(b, b.v, b.w);
             b.com = D.startCom[static_cast<std::size_t>(k)] + sb.dp;
             b.pose.q = (sb.dq * D.startRotation[static_cast<std::size_t>(k)]).normalized();
             b.wasFree = false;
@@ -79,13 +97,7 @@ void finalizeBodies(RigidBodyData& D, const DynamicsSettings& s, Real dt, StepWo
             }
             b.momentum = L;
             b.wasFree = true;
-            const Real vn = b.v.norm();
-            if (vn > b.maxLinearSpeed) b.v *= b.maxLinearSpeed / vn;
-            const Real wn = b.w.norm();
-            if (wn > b.maxAngularSpeed) {
-              b.w *= b.maxAngularSpeed / wn;
-              b.wasFree = false;
-            }
+            if (capSpeeds(b, b.v, b.w)) b.wasFree = false;
           }
           b.pose.p = b.com - b.pose.q * b.localCom;
           b.force.setZero();
