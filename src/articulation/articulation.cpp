@@ -85,6 +85,7 @@ void Articulation<S>::step(S h) {
   }
   // RK4 predicts (p, qd*); the rows then move the position with the velocity they change:
   // q(t + h) = p (+) h (w - qd*).
+  clampSpeeds();
   qStart_ = q_;
   integrateRk4(h);
   qdSmooth_ = qd_;
@@ -108,6 +109,7 @@ void Articulation<S>::integrateVelocity(S h) {
 // Semi-implicit Euler's velocity update by ABA; the substep's rows end q at q + h w.
 template <class S>
 void Articulation<S>::smoothVelocity(S h) {
+  clampSpeeds();  // what the last substep's relax sweeps and contacts left
   qStart_ = q_;
   aba<S>(model_, q_, qd_, tau_, qdd_, ws_);
   qd_ += h * qdd_;

@@ -40,7 +40,8 @@ struct ArticulationSettings {
   /// with the contacts instead, once per solver and relax iteration (the world's iterations).
   int constraintIterations = 20;
   S limitBaumgarte = S(0.2);  ///< Fraction of a limit's violation removed per step (0..1).
-  /// Speed guards, as a rigid body's (BodySettings): before each position update every joint's
+  /// Speed guards, as a rigid body's (BodySettings): before each velocity and each position
+  /// update (so whatever a world's relax sweeps and contacts left too) every joint's
   /// speed is scaled down to at most these, the norm of a spherical joint's or a floating
   /// base's angular velocity (rad/s, > 0) and of a prismatic joint's or a floating base's
   /// linear velocity (m/s, > 0). They keep semi-implicit Euler's explicit Coriolis and
