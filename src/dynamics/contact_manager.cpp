@@ -232,10 +232,10 @@ void updateBroadPhase(RigidBodyData& D, Real dt, const ContactTuning& tuning,
     if (fa.body == fb.body) return;
     if (fa.bodyType != BodyType::Dynamic && fb.bodyType != BodyType::Dynamic) return;
     if (!fa.awake && !fb.awake) return;
-    if (fa.jointed && fb.jointed && D.jointPrevents(fa.body, fb.body)) return;
+    if (!shouldCollide(fa.filter, fb.filter)) return;
     // The links of one articulation do not collide with each other.
     if (fa.group >= 0 && fa.group == fb.group) return;
-    if (!shouldCollide(fa.filter, fb.filter)) return;
+    if (fa.jointed && fb.jointed && D.jointPrevents(fa.body, fb.body)) return;
     out.emplace_back(a, b);
   };
   // Last step's pairs whose fat boxes still overlap, and their shape pairs, in one pass; then

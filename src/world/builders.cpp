@@ -106,7 +106,7 @@ BodyId addBody(World& world, const BodyDesc& desc) {
   const BodyId id = world.createBody(desc.settings);
   for (const ShapeDesc& s : desc.shapes) {
     const ShapeId shape = world.addShape(id, s.shape, s.material, s.local);
-    if (s.filter != CollisionFilter{}) world.rigidBodies().setFilter(shape, s.filter);
+    world.rigidBodies().setFilter(shape, s.filter);  // returns at once on the default
   }
   return id;
 }
