@@ -76,6 +76,12 @@ JointId addJoint(World& world, fuzz::Input& in, const std::vector<BodyId>& bodie
   const Vec3 axisA = in.vec(), axisB = in.vec();
   const Real breakForce = in.pick(4) == 0 ? in.real(1e4) : kUnbreakable;
   const bool collide = in.byte() & 1;
+  // The settings every type shares, then the joint (reads nothing: the bytes' order stays).
+  const auto create = [&](auto& j) {
+    j.breakForce = breakForce;
+    j.collideConnected = collide;
+    return world.createJoint(j);
+  };
   switch (type) {
     case 0: {
       BallJointSettings j{.bodyA = a,
@@ -87,8 +93,7 @@ JointId addJoint(World& world, fuzz::Input& in, const std::vector<BodyId>& bodie
       if (in.pick(2) == 0) j.coneLimit = in.real(3);
       j.twistLimits = limits(in, 3);
       j.friction = in.real(10);
-      j.breakForce = breakForce, j.collideConnected = collide;
-      return world.createJoint(j);
+      return create(j);
     }
     case 1: {
       HingeJointSettings j{.bodyA = a,
@@ -101,8 +106,7 @@ JointId addJoint(World& world, fuzz::Input& in, const std::vector<BodyId>& bodie
       j.motor = motor(in);
       j.spring = spring(in);
       j.friction = in.real(10);
-      j.breakForce = breakForce, j.collideConnected = collide;
-      return world.createJoint(j);
+      return create(j);
     }
     case 2: {
       SliderJointSettings j{
@@ -111,8 +115,7 @@ JointId addJoint(World& world, fuzz::Input& in, const std::vector<BodyId>& bodie
       j.motor = motor(in);
       j.spring = spring(in);
       j.friction = in.real(10);
-      j.breakForce = breakForce, j.collideConnected = collide;
-      return world.createJoint(j);
+      return create(j);
     }
     case 3: {
       UniversalJointSettings j{.bodyA = a,
@@ -123,14 +126,12 @@ JointId addJoint(World& world, fuzz::Input& in, const std::vector<BodyId>& bodie
                                .axisB = axisB};
       j.limitsA = limits(in, 3);
       j.limitsB = limits(in, 2);
-      j.breakForce = breakForce, j.collideConnected = collide;
-      return world.createJoint(j);
+      return create(j);
     }
     case 4: {
       WeldJointSettings j{.bodyA = a, .bodyB = b, .anchorA = anchorA, .anchorB = anchorB};
       j.spring = spring(in);
-      j.breakForce = breakForce, j.collideConnected = collide;
-      return world.createJoint(j);
+      return create(j);
     }
     case 5: {
       DistanceJointSettings j{.bodyA = a, .bodyB = b, .anchorA = anchorA, .anchorB = anchorB};
@@ -138,8 +139,7 @@ JointId addJoint(World& world, fuzz::Input& in, const std::vector<BodyId>& bodie
       j.minLength = in.real(scale);
       j.maxLength = in.real(scale);
       j.spring = spring(in);
-      j.breakForce = breakForce, j.collideConnected = collide;
-      return world.createJoint(j);
+      return create(j);
     }
     default: {
       SixDofJointSettings j{.bodyA = a, .bodyB = b};
@@ -152,8 +152,7 @@ JointId addJoint(World& world, fuzz::Input& in, const std::vector<BodyId>& bodie
         axis.spring = spring(in);
         axis.friction = in.real(10);
       }
-      j.breakForce = breakForce, j.collideConnected = collide;
-      return world.createJoint(j);
+      return create(j);
     }
   }
 }
