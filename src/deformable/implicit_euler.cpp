@@ -21,6 +21,8 @@ SurrogateSpring surrogate(const Spring& s, const Eigen::Vector3d& u0) {
 // Armijo's sufficient decrease (Nocedal and Wright, 3.1) and the line search's floor.
 constexpr double kArmijo = 1e-4;
 constexpr double kSmallestStep = 1e-8;
+// The relative tolerance the contacts' modes are settled at (ImplicitEuler::step).
+constexpr double kModeTolerance = 1e-3;
 
 // Items per block of a parallel pass, and springs per partial sum of Psi's change (fixed, never
 // derived from the number of workers: it sets the sum's association).
@@ -148,10 +150,23 @@ const Eigen::VectorXd& ImplicitEuler::gradient(const Eigen::VectorXd& v) {
   for (const AttachmentTerm& a : in_->attachments)
     g_.segment<3>(3 * Eigen::Index(a.vertex)) +=
         h * (a.k * (seg(x_, a.vertex) - a.target) + a.c * (seg(v, a.vertex) - a.velocity));
-  // What holds a contact: M (v - v0) = h F + lambda n there, so G = lambda n.
+  // What holds a contact: M (v - v0) = h F + lambda there, so G = lambda where it sticks. A
+  // sliding one's friction impulse f enters G as -f, and G = lambda_n n there.
   for (std::size_t k = 0; k < in_->contacts.size(); ++k) {
     VertexContact& c = in_->contacts[k];
-    c.impulse = held_[k] ? c.normal.dot(seg(g_, c.vertex)) : 0.0;
+    auto gk = g_.segment<3>(3 * Eigen::Index(c.vertex));
+    switch (modes_[k]) {
+      case ContactMode::Released:
+        c.impulse.setZero();
+        break;
+      case ContactMode::Sliding:
+        gk -= slideImpulses_[k];
+        c.impulse = c.normal * c.normal.dot(gk) + slideImpulses_[k];
+        break;
+      case ContactMode::Sticking:
+        c.impulse = gk;
+        break;
+    }
   }
   filter(g_);
   return g_;
@@ -243,15 +258,17 @@ void ImplicitEuler::filterPinned(Eigen::VectorXd& w) const {
   for (std::uint32_t i : pinnedList_) w.segment<3>(3 * Eigen::Index(i)).setZero();
 }
 
-// Baraff-Witkin's filter with S_i = 0 for a pinned vertex (all three directions constrained).
-// and S_i = I - n n^T for a vertex held against a body along n.
+// Baraff-Witkin's filter with S_i = 0 for a pinned vertex or one sticking to a body (all three
+// directions constrained), and S_i = I - n n^T for a vertex sliding on a body along n.
 void ImplicitEuler::filter(Eigen::VectorXd& w) const {
   filterPinned(w);
   for (std::size_t k = 0; k < in_->contacts.size(); ++k) {
-    if (!held_[k]) continue;
     const VertexContact& c = in_->contacts[k];
     auto wi = w.segment<3>(3 * Eigen::Index(c.vertex));
-    wi -= c.normal * c.normal.dot(wi);
+    if (modes_[k] == ContactMode::Sticking)
+      wi.setZero();
+    else if (modes_[k] == ContactMode::Sliding)
+      wi -= c.normal * c.normal.dot(wi);
   }
 }
 
@@ -284,6 +301,10 @@ double ImplicitEuler::psiChange(const Eigen::VectorXd& p, double alpha) const {
             pa.dot(a.k * (seg(x_, a.vertex) - a.target) + a.c * (seg(v_, a.vertex) - a.velocity)) +
         0.5 * alpha * alpha * (h * h * a.k + h * a.c) * pa.squaredNorm();
   }
+  // The sliding contacts' friction impulses: Psi's term -f . v.
+  for (std::size_t k = 0; k < in_->contacts.size(); ++k)
+    if (modes_[k] == ContactMode::Sliding)
+      change -= alpha * slideImpulses_[k].dot(seg(p, in_->contacts[k].vertex));
   return change;
 }
 
@@ -299,11 +320,11 @@ double ImplicitEuler::lineSearch(const Eigen::VectorXd& p) {
 
 // Newton's method on Psi from v_, with the contacts held as they are; false when it failed to
 // give finite values.
-bool ImplicitEuler::newton(const ImplicitEulerInput& in, double reference,
+bool ImplicitEuler::newton(const ImplicitEulerInput& in, double reference, double tolerance,
                            ImplicitSolveReport& report) {
   const Eigen::Index n3 = v_.size();
   gradient(v_);
-  const double target = in.tolerance * reference;
+  const double target = tolerance * reference;
   report.converged = false;
   double previous = g_.norm();
   for (int iteration = 0; iteration < in.maxNewtonIterations; ++iteration) {
@@ -317,7 +338,7 @@ bool ImplicitEuler::newton(const ImplicitEulerInput& in, double reference,
     // Inexact Newton (Eisenstat and Walker 1996, choice 2): loose while far, tighter as the
     // gradient falls, never finer than the target needs.
     const double forcing =
-        std::clamp(std::max(0.9 * ratio * ratio, 0.1 * target / norm), in.tolerance, 0.1);
+        std::clamp(std::max(0.9 * ratio * ratio, 0.1 * target / norm), tolerance, 0.1);
     const auto applyH = [this](const Eigen::VectorXd& w, Eigen::VectorXd& out) { apply(w, out); };
     const auto filterS = [this](Eigen::VectorXd& w) { filter(w); };
     const auto blockJacobi = [this](const Eigen::VectorXd& r, Eigen::VectorXd& out) {
@@ -369,17 +390,32 @@ void ImplicitEuler::predict() {
   v_ += p_;
 }
 
-// A contact whose impulse came out negative would hold the vertex to the body: it is let go
-// (an active set, one pass per solve). True when one was.
-bool ImplicitEuler::releasePullingContacts() {
-  bool released = false;
-  for (std::size_t k = 0; k < in_->contacts.size(); ++k)
-    if (held_[k] && in_->contacts[k].impulse < 0) {
-      held_[k] = 0;
-      in_->contacts[k].impulse = 0;
-      released = true;
+// Coulomb's active set, one pass per solve: a contact whose impulse came out pulling is let go;
+// a sticking one whose impulse across the normal passes mu times the one along it slides, with
+// that much friction in that direction (against the motion its holding prevented). True when
+// any changed.
+bool ImplicitEuler::updateContactModes() {
+  bool changed = false;
+  for (std::size_t k = 0; k < in_->contacts.size(); ++k) {
+    if (modes_[k] == ContactMode::Released) continue;
+    VertexContact& c = in_->contacts[k];
+    const double along = c.normal.dot(c.impulse);
+    if (along < 0) {
+      modes_[k] = ContactMode::Released;
+      slideImpulses_[k].setZero();
+      c.impulse.setZero();
+      changed = true;
+    } else if (modes_[k] == ContactMode::Sticking) {
+      const Eigen::Vector3d across = c.impulse - along * c.normal;
+      const double limit = c.friction * along, size = across.norm();
+      if (size > limit) {
+        modes_[k] = ContactMode::Sliding;
+        slideImpulses_[k] = across * (limit / size);
+        changed = true;
+      }
     }
-  return released;
+  }
+  return changed;
 }
 
 ImplicitSolveReport ImplicitEuler::step(const ImplicitEulerInput& in, Real h, std::span<Real> x,
@@ -398,24 +434,36 @@ ImplicitSolveReport ImplicitEuler::step(const ImplicitEulerInput& in, Real hr, s
   } release{workers_};
   const Eigen::Index n3 = Eigen::Index(x.size());
   start(in, double(hr), x, v);
-  held_.assign(in.contacts.size(), 1);
+  modes_.resize(in.contacts.size());
+  slideImpulses_.assign(in.contacts.size(), Eigen::Vector3d::Zero());
   ImplicitSolveReport report;
   v_ = v0_;
-  // Held vertices start at their prescribed normal velocity (the filter keeps it there), pinned
-  // ones at rest.
-  for (const VertexContact& c : in.contacts) {
+  // Held vertices start at their prescribed velocities (the filter keeps them there): a
+  // sticking one at the surface's, plus the normal velocity; pinned ones at rest.
+  for (std::size_t k = 0; k < in.contacts.size(); ++k) {
+    const VertexContact& c = in.contacts[k];
     auto vi = v_.segment<3>(3 * Eigen::Index(c.vertex));
+    modes_[k] = c.friction > 0 ? ContactMode::Sticking : ContactMode::Sliding;
+    if (modes_[k] == ContactMode::Sticking) vi = c.surfaceVelocity;
     vi += c.normal * (c.normalVelocity - c.normal.dot(vi));
   }
   filterPinned(v_);
   const double first = reference();
   predict();
-  bool finite = newton(in, first, report);
-  for (int pass = 0; finite && pass < 4 && releasePullingContacts(); ++pass)
-    finite = newton(in, reference(), report);
+  // Coulomb's active set is settled on solves to a relative kModeTolerance (the modes need the
+  // impulses' signs and sizes, not their last digits); the last modes are then solved to the
+  // tolerance. A later solve's reference is the first one's unless larger: a pass starts from
+  // a solved state, whose small |G| would ask for more than the step needs.
+  const double modeTolerance =
+      in.contacts.empty() ? in.tolerance : std::max(in.tolerance, kModeTolerance);
+  bool finite = newton(in, first, modeTolerance, report);
+  for (int pass = 0; finite && pass < 4 && updateContactModes(); ++pass)
+    finite = newton(in, std::max(first, reference()), modeTolerance, report);
+  if (finite && modeTolerance > in.tolerance)
+    finite = newton(in, std::max(first, reference()), in.tolerance, report);
   if (!finite) {
     report.converged = false;
-    for (VertexContact& c : in.contacts) c.impulse = 0;
+    for (VertexContact& c : in.contacts) c.impulse.setZero();
     previousChange_.resize(0);
     return report;
   }

@@ -53,8 +53,14 @@ struct AttachmentTerm {
 };
 
 /// A vertex touching a body, held in the solve (Baraff and Witkin's constrained vertices,
-/// section 5.3: the filter S = I - n n^T) to the normal velocity `normalVelocity` (m/s) along
-/// `normal`; the solve's unbalanced gradient there is the contact impulse, handed to the body.
+/// section 5.3) with Coulomb friction as an active set. A sticking vertex is held in all three
+/// directions (the filter S = 0) to the surface's velocity, with `normalVelocity` (m/s) along
+/// `normal`; a sliding one only along the normal (S = I - n n^T), with a friction impulse of mu
+/// times its normal impulse against the direction that holding it needed; a released one is
+/// free. The solve's unbalanced gradient at a held vertex is the contact's impulse, handed to
+/// the body. Every contact starts sticking (sliding when mu is 0); between Newton solves one
+/// whose impulse would pull is released, and one whose holding impulse leaves the friction
+/// cone slides.
 /// (Not `ContactConstraint`: the dynamics layer's struct of that name lives in this namespace
 /// too, and two definitions of one name broke the one-definition rule: the vectors of both
 /// shared one instantiation, which overflowed a buffer under the fuzzer's ASan build.)
@@ -62,7 +68,13 @@ struct VertexContact {
   std::uint32_t vertex = 0;
   Eigen::Vector3d normal = Eigen::Vector3d::UnitY();
   double normalVelocity = 0;
-  double impulse = 0;  ///< Out: the impulse along `normal` on the vertex (N s, >= 0).
+  /// The surface's velocity at the vertex (m/s): a sticking vertex moves with its tangential
+  /// part.
+  Eigen::Vector3d surfaceVelocity = Eigen::Vector3d::Zero();
+  double friction = 0;  ///< Coulomb's coefficient mu (>= 0)
+  /// Out: the contact's impulse on the vertex (N s): along `normal` >= 0, across it within
+  /// mu times that.
+  Eigen::Vector3d impulse = Eigen::Vector3d::Zero();
 };
 
 /// What one implicit step reads besides the state.
@@ -75,10 +87,11 @@ struct ImplicitEulerInput {
   /// Per vertex, the linear drag coefficient k (kg/s) of the fields (F = -k v), taken
   /// implicitly so that strong drag is stable too.
   std::span<const Real> fieldDamping;
-  /// Newton stops when |G| <= tolerance * (|filter(M^ v0 + h f0)| + |G(v0)|); each Newton
+  /// Newton stops when |G| <= tolerance * (|filter(M^ v0 + h f0)| + |G(v0)|) (with contacts,
+  /// each active-set pass to 1e-3 first, the last one then to the tolerance); each Newton
   /// step's PCG stops at a relative residual between tolerance and 0.1 (inexact Newton).
   std::span<const AttachmentTerm> attachments = {};
-  /// In and out: contacts are released (impulse 0, left out of the filter) when they would pull.
+  /// In and out: each one's impulse is written (0 for one released because it would pull).
   std::span<VertexContact> contacts = {};
   double tolerance = 1e-6;
   int maxIterations = 1000;  ///< PCG iterations per Newton step
@@ -109,8 +122,9 @@ class ImplicitEuler {
              std::span<const Real> v);
   void assemble(const Eigen::VectorXd& v);
   double reference();
-  bool newton(const ImplicitEulerInput& in, double reference, ImplicitSolveReport& report);
-  bool releasePullingContacts();
+  bool newton(const ImplicitEulerInput& in, double reference, double tolerance,
+              ImplicitSolveReport& report);
+  bool updateContactModes();
   double lineSearch(const Eigen::VectorXd& p);
   double psiChange(const Eigen::VectorXd& p, double alpha) const;
 
@@ -128,7 +142,10 @@ class ImplicitEuler {
 
   const ImplicitEulerInput* in_ = nullptr;
   double h_ = 0;
-  std::vector<std::uint8_t> held_;      // per contact: still in the filter
+  // Per contact: how the solve holds it (VertexContact), and a sliding one's friction impulse.
+  enum class ContactMode : std::uint8_t { Released, Sliding, Sticking };
+  std::vector<ContactMode> modes_;
+  std::vector<Eigen::Vector3d> slideImpulses_;
   std::vector<Eigen::Vector3d> u0_;     // each spring's direction at the start (0: collapsed)
   std::vector<SymmetricBlock> blocks_;  // h^2 K~ + h c u0 u0^T per spring, at the last iterate
   std::vector<SymmetricBlock> inverseBlocks_;  // per vertex: H's diagonal block, inverted

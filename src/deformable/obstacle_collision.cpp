@@ -110,9 +110,12 @@ Vec3 twoWayImpulse(MovingObstacle& o, Real wv, Real friction, const Vec3& x, con
 // there, plus what brings it back out to the thickness within the step. So the solve itself
 // carries a resting body's weight: projected out only after the solve, its bottom vertices gave
 // way in every solve, and a soft ball on the ground settled squashed (by an amount independent
-// of its stiffness, with spring energy in proportion to it). Faster approaches are impacts,
-// handled in collide() (shared by the vertex's and a dynamic body's masses); the held
-// impulses go to dynamic bodies only.
+// of its stiffness, with spring energy in proportion to it). Friction acts in the solve too
+// (Coulomb's active set: a held vertex sticks to the surface, or slides with mu times its
+// normal impulse), since collide() finds held vertices outside the thickness and has none to
+// apply: without it an implicit cloth slid off a sphere and a rope down any slope. Faster
+// approaches are impacts, handled in collide() (shared by the vertex's and a dynamic body's
+// masses); the held impulses, friction included, go to dynamic bodies only.
 void Deformable::holdBodyContacts(Real h) {
   auto& contacts = scratch_->contacts;
   contacts.clear();
@@ -129,8 +132,11 @@ void Deformable::holdBodyContacts(Real h) {
     if (!(q.distance < 2 * r)) return false;
     if ((v - surface).dot(q.normal) < -r / h) return false;  // approaching: the swept test's
     const Real recover = std::max(Real(0), r + skin(r) - q.distance) / h;
-    contacts.push_back({std::uint32_t(i), q.normal.cast<double>(),
-                        double(surface.dot(q.normal) + recover), 0.0});
+    contacts.push_back({.vertex = std::uint32_t(i),
+                        .normal = q.normal.cast<double>(),
+                        .normalVelocity = double(surface.dot(q.normal) + recover),
+                        .surfaceVelocity = surface.cast<double>(),
+                        .friction = double(settings_.friction)});
     scratch_->contactObstacles.push_back(obstacle);
     return true;
   };
@@ -155,11 +161,11 @@ void Deformable::pushHeldContacts() {
   const auto& contacts = scratch_->contacts;
   for (std::size_t c = 0; c < contacts.size(); ++c) {
     const std::size_t k = scratch_->contactObstacles[c];
-    if (!(contacts[c].impulse > 0) || k == kStaticObstacle || !(moving_[k].inverseMass > 0))
+    if (contacts[c].impulse.isZero(0) || k == kStaticObstacle || !(moving_[k].inverseMass > 0))
       continue;
     MovingObstacle& o = moving_[k];
     const Vec3 x = Eigen::Map<const Vec3>(&x_[3 * contacts[c].vertex]);
-    const Vec3 j = -Real(contacts[c].impulse) * contacts[c].normal.cast<Real>();
+    const Vec3 j = -contacts[c].impulse.cast<Real>();
     o.linearVelocity += o.inverseMass * j;
     o.angularVelocity += o.inverseInertia * (x - o.center).cross(j);
     obstacleImpulses_.push_back({scratch_->contactObstacles[c], j, x});

@@ -154,30 +154,35 @@ TEST(DeformableCollision, FastVertexIsSweptAndDoesNotTunnel) {
 
 // Coulomb friction on a 30 degree slope: with mu = 0.8 > tan 30 a resting rope stays (up to
 // the first step's settling), with mu = 0.3 < tan 30 it slides down with acceleration close to
-// g (sin 30 - mu cos 30) (the discrete push-out applies friction to each step's normal
-// velocity change, h g cos 30, so the slide's rate is exact per step once in contact).
+// g (sin 30 - mu cos 30). Symplectic Euler: the discrete push-out applies friction to each
+// step's normal velocity change, h g cos 30, so the slide's rate is exact per step once in
+// contact. Implicit Euler: the held contacts' active set sticks the rope, or slides it with mu
+// times the normal impulse h m g cos 30, exact per step too (it slid at g sin 30 whatever mu
+// while its held vertices had no friction).
 TEST(DeformableCollision, FrictionHoldsOrSlidesOnASlopeAsCoulombSays) {
   const Real angle = Real(0.5235988);
   const Vec3 normal(-std::sin(angle), std::cos(angle), 0);
   const Vec3 down(-std::cos(angle), -std::sin(angle), 0);
   const Obstacle slope{Collider(Plane{normal, 0}), Transform{}};
   const Vec3 across = normal.cross(down).normalized();
-  for (Real mu : {Real(0.8), Real(0.3)}) {
-    MassSpringModel m = rope({.from = normal * Real(0.011) - across * Real(0.2),
-                              .to = normal * Real(0.011) + across * Real(0.2),
-                              .segments = 4,
-                              .mass = 1,
-                              .stiffness = {.stretch = 500, .bend = 0}});
-    Deformable d(
-        {.integrator = ode::Method::SymplecticEuler, .thickness = Real(0.01), .friction = mu}, m);
-    d.addField({GravityField{}});
-    d.addObstacle(slope);
-    for (int s = 0; s < 60; ++s) d.step(Real(1) / 60);
-    const Real speed = d.velocity(2).dot(down);
-    const Real expected =
-        mu > std::tan(angle) ? 0 : Real(9.81) * (std::sin(angle) - mu * std::cos(angle)) * Real(1);
-    EXPECT_NEAR(speed, expected, Real(0.02) * Real(9.81)) << "mu " << mu;
-  }
+  for (ode::Method method : {ode::Method::SymplecticEuler, ode::Method::BackwardEuler})
+    for (Real mu : {Real(0.8), Real(0.3)}) {
+      MassSpringModel m = rope({.from = normal * Real(0.011) - across * Real(0.2),
+                                .to = normal * Real(0.011) + across * Real(0.2),
+                                .segments = 4,
+                                .mass = 1,
+                                .stiffness = {.stretch = 500, .bend = 0}});
+      Deformable d({.integrator = method, .thickness = Real(0.01), .friction = mu}, m);
+      d.addField({GravityField{}});
+      d.addObstacle(slope);
+      for (int s = 0; s < 60; ++s) d.step(Real(1) / 60);
+      const Real speed = d.velocity(2).dot(down);
+      const Real expected = mu > std::tan(angle)
+                                ? 0
+                                : Real(9.81) * (std::sin(angle) - mu * std::cos(angle)) * Real(1);
+      EXPECT_NEAR(speed, expected, Real(0.02) * Real(9.81))
+          << ode::methodName(method) << ", mu " << mu;
+    }
 }
 
 }  // namespace
