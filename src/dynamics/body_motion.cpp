@@ -12,15 +12,23 @@ namespace {
 
 // Scales v and w down to the body's speed limits; true when w was.
 bool capSpeeds(const BodyRecord& b, Vec3& v, Vec3& w) {
-  const Real vn = v.norm();
-  if (vn > b.maxLinearSpeed) v *= b.maxLinearSpeed / vn;
-  const Real wn = w.norm();
-  if (!(wn > b.maxAngularSpeed)) return false;
-  w *= b.maxAngularSpeed / wn;
-  return true;
+  capSpeed(v, b.maxLinearSpeed);
+  return capSpeed(w, b.maxAngularSpeed);
 }
 
 }  // namespace
+
+void capStartSpeeds(RigidBodyData& D, StepWorkers& workers) {
+  const std::size_t n = D.bodies.size();
+  workers.parallelFor(n, workers.grainFor(n, 256), [&](std::size_t first, std::size_t last) {
+    for (std::size_t bi = first; bi < last; ++bi) {
+      BodyRecord& b = D.bodies[bi];
+      // A free body's rotation follows its momentum: taken again from the capped w.
+      if (b.alive && b.awake && b.type == BodyType::Dynamic && capSpeeds(b, b.v, b.w))
+        b.wasFree = false;
+    }
+  });
+}
 
 void finalizeBodies(RigidBodyData& D, const DynamicsSettings& s, Real dt, StepWorkers& workers,
                     void (*beside)(RigidBodyData&)) {

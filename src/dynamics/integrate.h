@@ -1,9 +1,22 @@
 // Internal: the rotational integrators of rigid bodies.
 #pragma once
 
+#include <cmath>
+
 #include "inertia/core/types.h"
 
 namespace inertia::detail {
+
+/// A body's speed cap: scales v down to the norm `limit` when it is faster (the direction
+/// kept). True when it did. A vector whose squared norm overflows (components past 1e19 in
+/// float) is measured without overflow: its plain norm, infinite, would scale it to zero.
+inline bool capSpeed(Vec3& v, Real limit) {
+  Real n = v.norm();
+  if (!(n > limit)) return false;
+  if (std::isinf(n)) n = v.stableNorm();
+  v *= limit / n;
+  return true;
+}
 
 /// Implicit gyroscopic update (Catto, GDC 2015 "Numerical Methods"): one Newton step of the
 /// backward-Euler Euler equation I (w2 - w1) + h w2 x I w2 = 0 in the body frame, starting

@@ -20,6 +20,18 @@
 
 namespace inertia::detail {
 
+/// The most a joint row's bias asks for: m/s along a linear row, rad/s about an angular one.
+/// Past every body's default speed cap (400 m/s, 200 rad/s), so that no joint meant to hold is
+/// slowed; yet a joint created with its anchors 100 km apart no longer asks a light body for
+/// speeds its position update never follows, which drove the velocities past float's range
+/// within one substep's iterations (fuzz input world-joint-100km-error-overflow).
+inline constexpr Real kMaxJointBias = 1000;
+
+/// The bias velocity of a soft row towards C = 0, within kMaxJointBias.
+inline Real jointBias(const Softness& soft, Real C) {
+  return std::clamp(soft.biasRate * C, -kMaxJointBias, kMaxJointBias);
+}
+
 /// One row's Jacobian J = [-l, -jA, l, jB] on (vA, wA, vB, wB): a linear row has direction l and
 /// jA = rA x l, jB = rB x l for lever arms rA, rB from the centres of mass; an angular row has
 /// l = 0 and jA = jB = its axis.
@@ -213,7 +225,7 @@ struct RowBlock {
     const Vec3 wbr = cross(b.w, armB), war = cross(a.w, armA);
     Vec3 rhs;
     for (int i = 0; i < 3; ++i)
-      rhs(i) = (b.v(i) + wbr(i)) - (a.v(i) + war(i)) + soft.biasRate * error(i);
+      rhs(i) = (b.v(i) + wbr(i)) - (a.v(i) + war(i)) + jointBias(soft, error(i));
     // K^-1 is symmetric: its upper triangle, packed as addArmMass's.
     const Real* m = inverseMass.data();
     const Vec3 delta(-soft.massScale * (m[0] * rhs.x() + m[1] * rhs.y() + m[2] * rhs.z()) -
@@ -265,7 +277,7 @@ struct RowBlock {
     const Vec3 dv = b.v - a.v;
     for (int i = 0; i < N; ++i) {
       const JointRow& r = rows[std::size_t(i)];
-      rhs(i) = r.linear.dot(dv) + r.jb.dot(b.w) - r.ja.dot(a.w) + soft.biasRate * error(i);
+      rhs(i) = r.linear.dot(dv) + r.jb.dot(b.w) - r.ja.dot(a.w) + jointBias(soft, error(i));
     }
     const Eigen::Map<const Eigen::Matrix<Real, N, N>> kinv(inverseMass.data());
     const Eigen::Matrix<Real, N, 1> delta =
@@ -381,7 +393,7 @@ struct AxisRows {
   void solveSoft(SolverBody& a, SolverBody& b, Real& accumulated, Real C, const Softness& soft,
                  Real maxImpulse) {
     const Real old = accumulated;
-    const Real lambda = -soft.massScale * effectiveMass * (velocity(a, b) + soft.biasRate * C) -
+    const Real lambda = -soft.massScale * effectiveMass * (velocity(a, b) + jointBias(soft, C)) -
                         soft.impulseScale * old;
     accumulated = std::clamp(old + lambda, -maxImpulse, maxImpulse);
     apply(a, b, accumulated - old);
@@ -395,7 +407,7 @@ struct AxisRows {
     if (C > 0) {
       bias = C * invH;
     } else {
-      bias = soft.biasRate * C;
+      bias = jointBias(soft, C);
       massScale = soft.massScale;
       impulseScale = soft.impulseScale;
     }

@@ -465,7 +465,7 @@ class LcpRowWriter {
   void soft(const JointRow& row, Real C, const Softness& soft, Real* store,
             Real bound = kInfinity) {
     LcpRow& r = add(row, 1, std::isinf(bound) ? LcpRowKind::Bilateral : LcpRowKind::Boxed, store);
-    r.rhs += double(soft.biasRate * C);
+    r.rhs += double(jointBias(soft, C));
     r.cfm = compliance(r, soft);
     r.bound = double(bound);
   }
@@ -478,7 +478,7 @@ class LcpRowWriter {
   // A one-sided row keeping C >= 0, speculative while C > 0, as AxisRows::solveLimit.
   void limit(const JointRow& row, Real C, Real sign, Real* store) {
     LcpRow& r = add(row, sign, LcpRowKind::Limit, store);
-    r.rhs += double(C > 0 ? C * pass_.invH : pass_.rigid.biasRate * C);
+    r.rhs += double(C > 0 ? C * pass_.invH : jointBias(pass_.rigid, C));
     r.cfm = C > 0 ? 0 : compliance(r, pass_.rigid);
   }
   // A free coordinate's spring, motor, friction and limits (driveAxis).

@@ -664,6 +664,7 @@ void RigidBodySystem::step(Real dt, const DynamicsSettings& s, detail::StepWorke
   D.endEvents.clear();
   D.jointEvents.clear();
   const auto t0 = Clock::now();
+  detail::capStartSpeeds(D, workers);
   detail::updateBroadPhase(D, dt, s.contact, workers);
   const auto t1 = Clock::now();
   // The islands beside the warm start's matching, the contact events beside the bodies'

@@ -151,13 +151,19 @@ void prepareMotion(Data& D, const DynamicsSettings& s, Real h, StepWorkers& work
   });
 }
 
-// Velocities of the constrained bodies: gravity, forces, damping, implicit gyroscopic term.
+// Velocities of the constrained bodies, from their capped speeds: gravity, forces, damping,
+// implicit gyroscopic term.
 void integrateVelocities(Data& D, Real h, StepWorkers& workers) {
   workers.parallelFor(D.solverBodies.size(), [&](std::size_t first, std::size_t last) {
     for (std::size_t k = first; k < last; ++k) {
       const Data::SubstepMotion& m = D.motion[k];
       SolverBody& sb = D.solverBodies[k];
       if (!m.dynamic) continue;
+      // From capped speeds, as the positions move: the previous substep's solve and relax
+      // passes can leave any (a sliver struck by a link that a spinning hull threw), and the
+      // gyroscopic term's products overflowed from there.
+      capSpeed(sb.v, m.maxLinearSpeed);
+      capSpeed(sb.w, m.maxAngularSpeed);
       sb.v += m.dv;
       sb.v *= m.linearFactor;
       sb.w += m.dw;
@@ -176,10 +182,8 @@ void integratePositions(Data& D, Real h, StepWorkers& workers) {
     for (std::size_t k = first; k < last; ++k) {
       const Data::SubstepMotion& m = D.motion[k];
       SolverBody& sb = D.solverBodies[k];
-      const Real vn = sb.v.norm();
-      if (vn > m.maxLinearSpeed) sb.v *= m.maxLinearSpeed / vn;
-      const Real wn = sb.w.norm();
-      if (wn > m.maxAngularSpeed) sb.w *= m.maxAngularSpeed / wn;
+      capSpeed(sb.v, m.maxLinearSpeed);
+      capSpeed(sb.w, m.maxAngularSpeed);
       sb.dp += h * sb.v;
       sb.dq = integrateRotation(sb.dq, sb.w, h);
       sb.dR = sb.dq.toRotationMatrix();
