@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <ostream>
 #include <string>
 
 #include "inertia/io/scene.h"
@@ -27,5 +28,9 @@ struct BadCase {
   const char* pointer;  // expected JSON pointer
   const char* words;    // expected in the reason
 };
+
+// GoogleTest shows a case by the pointer it expects, not by the struct's bytes (addresses, which
+// changed CTest's names of these cases from build to build).
+inline void PrintTo(const BadCase& c, std::ostream* out) { *out << c.pointer; }
 
 }  // namespace inertia::test
