@@ -1,8 +1,8 @@
-// Internal: the bodies' speeds at the start of a step, and their motion at its end. Bodies in the solver take its velocities
-// and motion; kinematic bodies move by their velocities; free dynamic bodies fly with the
-// world's ode method and the momentum-conserving rotation splitting (integrate.h). Then the
-// sleep timers. `beside(D)` runs on one worker meanwhile: a stage that shares no data with
-// the bodies' motion (the contact events).
+// Internal: the bodies' speeds at the start of a step, and their motion at its end. Bodies in
+// the solver take its velocities and motion; kinematic bodies move by their velocities; free
+// dynamic bodies fly with the world's ode method and the momentum-conserving rotation
+// splitting (integrate.h). Then the sleep timers. `beside(D)` runs on one worker meanwhile: a
+// stage that shares no data with the bodies' motion (the contact events).
 #pragma once
 
 #include "rigid_body_data.h"

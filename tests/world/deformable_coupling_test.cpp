@@ -75,8 +75,8 @@ TEST(DeformableCoupling, FrictionOfAHeldVertexDragsTheBodyItSlidesOn) {
   const BodyId box = world.createBody({.position = Vec3(0, half.y(), 0), .mass = bodyMass});
   world.addShape(box, Box{half}, Material{.friction = 0});
   const Vec3 start(Real(-0.3), 2 * half.y() + thickness * Real(1.001), 0);
-  const DeformableId id = world.createDeformable(
-      {.thickness = thickness, .friction = mu}, oneVertex(start, Vec3(u0, 0, 0), m));
+  const DeformableId id = world.createDeformable({.thickness = thickness, .friction = mu},
+                                                 oneVertex(start, Vec3(u0, 0, 0), m));
   world.deformable(id).addField({GravityField{}});
   for (int s = 0; s < 60; ++s) {
     world.step(Real(1) / 60);
