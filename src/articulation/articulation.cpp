@@ -130,9 +130,13 @@ void Articulation<S>::integratePosition(S h) {
 // so its direction is kept).
 template <class S>
 void Articulation<S>::clampSpeeds() {
+  // The rule of the bodies' capSpeed (dynamics/integrate.h, private to that layer): a vector
+  // whose squared norm overflows is measured by stableNorm, not scaled to zero.
   const auto clamp = [](auto v, S limit) {
-    const S n = v.norm();
-    if (n > limit) v *= limit / n;
+    S n = v.norm();
+    if (!(n > limit)) return;
+    if (std::isinf(n)) n = v.stableNorm();
+    v *= limit / n;
   };
   const S linear = settings_.maxLinearSpeed, angular = settings_.maxAngularSpeed;
   for (const Link<S>& l : model_.links()) {
