@@ -328,17 +328,24 @@ void hairTable() {
 
 }  // namespace
 
-// bench_deformables [CELLS]: the cloth's cells per side (100 unless given, 1..1000).
+// bench_deformables [CELLS] [SCENES]: the cloth's cells per side (100 unless given,
+// 1..1000), and which tables: cloth, hair or all (the default).
 int main(int argc, char** argv) {
   const int cells = argc > 1 ? std::atoi(argv[1]) : 100;
   if (cells < 1 || cells > 1000) {
     std::fprintf(stderr, "bench_deformables: CELLS must be in 1..1000 (got '%s')\n", argv[1]);
     return 2;
   }
+  const std::string scenes = argc > 2 ? argv[2] : "all";
+  if (scenes != "cloth" && scenes != "hair" && scenes != "all") {
+    std::fprintf(stderr, "bench_deformables: SCENES must be cloth, hair or all (got '%s')\n",
+                 argv[2]);
+    return 2;
+  }
 #ifndef INERTIA_BENCH_BULLET
   std::printf("Bullet not found at configure time: no btSoftBody comparison.\n");
 #endif
-  clothTable(cells);
-  hairTable();
+  if (scenes != "hair") clothTable(cells);
+  if (scenes != "cloth") hairTable();
   return 0;
 }

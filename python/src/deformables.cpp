@@ -197,7 +197,8 @@ void bindCreation(py::class_<PyWorld>& world) {
           "create_deformable",
           [](PyWorld& w, const MassSpringModel& model, const std::string& name,
              const std::string& integrator, Real thickness, Real friction, Real tearStrain,
-             double solverTolerance, int solverMaxIterations, bool collideWithBodies) {
+             double solverTolerance, int solverMaxIterations, const std::string& linearSolver,
+             bool collideWithBodies) {
             DeformableSettings s;
             s.name = name;
             if (integrator == "implicit_euler") {
@@ -212,19 +213,31 @@ void bindCreation(py::class_<PyWorld>& world) {
             s.tearStrain = tearStrain;
             s.solverTolerance = solverTolerance;
             s.solverMaxIterations = solverMaxIterations;
+            if (linearSolver == "automatic")
+              s.linearSolver = DeformableLinearSolver::Automatic;
+            else if (linearSolver == "conjugate_gradient")
+              s.linearSolver = DeformableLinearSolver::ConjugateGradient;
+            else if (linearSolver == "direct")
+              s.linearSolver = DeformableLinearSolver::Direct;
+            else
+              argumentError("linear_solver", "'" + linearSolver +
+                                                 "' is not automatic, conjugate_gradient or direct");
             s.collideWithBodies = collideWithBodies;
             return w->createDeformable(s, model);
           },
           py::arg("model"), py::kw_only(), py::arg("name") = "",
           py::arg("integrator") = "implicit_euler", py::arg("thickness") = 0.01,
           py::arg("friction") = 0.3, py::arg("tear_strain") = 0, py::arg("solver_tolerance") = 1e-6,
-          py::arg("solver_max_iterations") = 1000, py::arg("collide_with_bodies") = true,
+          py::arg("solver_max_iterations") = 1000, py::arg("linear_solver") = "automatic",
+          py::arg("collide_with_bodies") = true,
           "Adds a deformable built from model (inertia.rope, cloth, soft_box, soft_sphere, hair, "
           "soft_mesh). "
           "integrator: 'implicit_euler' (Baraff and Witkin) or an explicit method's name; "
           "thickness kept from obstacles (m); friction against them (Coulomb); tear_strain: a "
           "spring breaks past (l - L) / L (0: never); the implicit solve's relative tolerance "
-          "and iteration cap; collide_with_bodies: the bodies' shapes are obstacles (one way). "
+          "and iteration cap; linear_solver: how each Newton system is solved, 'direct' (sparse "
+          "LDL^T), 'conjugate_gradient' (modified PCG) or 'automatic' (direct for strands); "
+          "collide_with_bodies: the bodies' shapes are obstacles (one way). "
           "Gravity acts only through fields: add_deformable_field(d, inertia.GravityField(g)).")
       .def(
           "destroy_deformable",

@@ -133,6 +133,8 @@ def test_deformable_errors_name_the_argument():
     world = inertia.World()
     with pytest.raises(ValueError, match="integrator"):
         world.create_deformable(inertia.rope(), integrator="nope")
+    with pytest.raises(ValueError, match="linear_solver"):
+        world.create_deformable(inertia.rope(), linear_solver="cholesky")
     with pytest.raises(ValueError, match="thickness"):
         world.create_deformable(inertia.rope(), thickness=-1)
     d = world.create_deformable(inertia.rope(segments=2))

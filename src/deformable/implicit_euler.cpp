@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "deformable/spring_forces.h"
 
@@ -21,6 +22,10 @@ SurrogateSpring surrogate(const Spring& s, const Eigen::Vector3d& u0) {
 // Armijo's sufficient decrease (Nocedal and Wright, 3.1) and the line search's floor.
 constexpr double kArmijo = 1e-4;
 constexpr double kSmallestStep = 1e-8;
+// Automatic picks the direct solve where its factors hold at most this many times the
+// matrices' non-zeros: strands and ropes (0.9 for the benchmark's hair), not sheets or volumes
+// (6.3 for 40 x 40 cloth cells, 9.4 for 100 x 100, where PCG was 4 times faster at 40).
+constexpr double kDirectFill = 2;
 // The relative tolerance the contacts' modes are settled at (ImplicitEuler::step).
 constexpr double kModeTolerance = 1e-3;
 
@@ -173,18 +178,11 @@ const Eigen::VectorXd& ImplicitEuler::gradient(const Eigen::VectorXd& v) {
 }
 
 // Psi's Hessian H = M^ + h^2 K~(x) + h C at the current iterate: each spring's block enters at
-// (a, a), (b, b) with + and at (a, b), (b, a) with -. Its 3 x 3 diagonal blocks, inverted, are
-// the preconditioner (block Jacobi: a stretched spring couples a vertex's three components).
+// (a, a), (b, b) with + and at (a, b), (b, a) with -.
 void ImplicitEuler::assemble(const Eigen::VectorXd& v) {
   const double h = h_;
   x_ = x0_ + h * v;
   diagonal_ = massDiagonal_ + anchorDiagonal_;
-  const std::size_t n = in_->masses.size();
-  inverseBlocks_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const double* d = diagonal_.data() + 3 * i;
-    inverseBlocks_[i] = {d[0], d[1], d[2], 0, 0, 0};
-  }
   forSprings([&](std::size_t k) {
     if (in_->broken[k]) {
       blocks_[k] = {};
@@ -196,14 +194,22 @@ void ImplicitEuler::assemble(const Eigen::VectorXd& v) {
                               h * double(s.damping) * u0 * u0.transpose();
     blocks_[k] = {b(0, 0), b(1, 1), b(2, 2), b(0, 1), b(0, 2), b(1, 2)};
   });
+}
+
+// The PCG's preconditioner: H's 3 x 3 diagonal blocks, inverted (block Jacobi: a stretched
+// spring couples a vertex's three components).
+void ImplicitEuler::invertDiagonalBlocks() {
+  inverseBlocks_.resize(in_->masses.size());
   forVertices([&](std::size_t i) {
-    SymmetricBlock& d = inverseBlocks_[i];
+    const double* g = diagonal_.data() + 3 * i;
+    SymmetricBlock d = {g[0], g[1], g[2], 0, 0, 0};
     for (std::uint32_t e = firstIncident_[i]; e < firstIncident_[i + 1]; ++e)
       for (std::size_t c = 0; c < 6; ++c) d[c] += blocks_[incident_[e].spring][c];
     Eigen::Matrix3d m;
     m << d[0], d[3], d[4], d[3], d[1], d[5], d[4], d[5], d[2];
     const Eigen::Matrix3d inverse = m.inverse();
-    d = {inverse(0, 0), inverse(1, 1), inverse(2, 2), inverse(0, 1), inverse(0, 2), inverse(1, 2)};
+    inverseBlocks_[i] = {inverse(0, 0), inverse(1, 1), inverse(2, 2),
+                         inverse(0, 1), inverse(0, 2), inverse(1, 2)};
   });
 }
 
@@ -318,12 +324,73 @@ double ImplicitEuler::lineSearch(const Eigen::VectorXd& p) {
   return 0;
 }
 
+// Whether this step's Newton systems are solved by the sparse LDL^T: as the settings say, or,
+// when automatic, where its factors stay sparse.
+bool ImplicitEuler::useDirectSolve() {
+  switch (in_->linearSolver) {
+    case DeformableLinearSolver::ConjugateGradient:
+      return false;
+    case DeformableLinearSolver::Direct:
+      return direct_.connect(in_->springs, in_->masses.size(),
+                             std::numeric_limits<double>::infinity());
+    case DeformableLinearSolver::Automatic:
+      break;
+  }
+  return direct_.connect(in_->springs, in_->masses.size(), kDirectFill);
+}
+
+// The filter's 3 x 3 block per constrained vertex, for the direct solve.
+void ImplicitEuler::buildProjections() {
+  projectionOf_.assign(in_->masses.size(), -1);
+  projections_.clear();
+  const auto add = [&](std::uint32_t vertex, const Eigen::Matrix3d& s) {
+    projectionOf_[vertex] = std::int32_t(projections_.size());
+    projections_.push_back(s);
+  };
+  for (std::uint32_t i : pinnedList_) add(i, Eigen::Matrix3d::Zero());
+  for (std::size_t k = 0; k < in_->contacts.size(); ++k) {
+    const VertexContact& c = in_->contacts[k];
+    if (modes_[k] == ContactMode::Sticking)
+      add(c.vertex, Eigen::Matrix3d::Zero());
+    else if (modes_[k] == ContactMode::Sliding)
+      add(c.vertex, Eigen::Matrix3d::Identity() - c.normal * c.normal.transpose());
+  }
+}
+
+// p_ = the Newton step, H p = -G on the filter's range: by the sparse LDL^T (filtered_ldlt.h),
+// or by the modified PCG to a relative residual `forcing`. Returns the PCG iterations (1 for a
+// direct solve; PCG when its factorisation failed).
+int ImplicitEuler::solveNewtonSystem(double forcing, bool direct) {
+  trial_ = -g_;
+  if (direct) {
+    const ProjectionOf projection = [](const void* self, std::uint32_t i) {
+      const ImplicitEuler& e = *static_cast<const ImplicitEuler*>(self);
+      const std::int32_t k = e.projectionOf_[i];
+      return k < 0 ? nullptr : &e.projections_[std::size_t(k)];
+    };
+    if (direct_.solve(diagonal_, blocks_, projection, this, trial_, p_, workers_)) {
+      filter(p_);
+      return 1;
+    }
+  }
+  invertDiagonalBlocks();
+  const auto applyH = [this](const Eigen::VectorXd& w, Eigen::VectorXd& out) { apply(w, out); };
+  const auto filterS = [this](Eigen::VectorXd& w) { filter(w); };
+  const auto blockJacobi = [this](const Eigen::VectorXd& r, Eigen::VectorXd& out) {
+    precondition(r, out);
+  };
+  p_.setZero(trial_.size());
+  return modifiedPcg(applyH, filterS, blockJacobi, trial_, p_, forcing, in_->maxIterations, pcg_)
+      .iterations;
+}
+
 // Newton's method on Psi from v_, with the contacts held as they are; false when it failed to
 // give finite values.
 bool ImplicitEuler::newton(const ImplicitEulerInput& in, double reference, double tolerance,
                            ImplicitSolveReport& report) {
-  const Eigen::Index n3 = v_.size();
   gradient(v_);
+  const bool direct = useDirectSolve();
+  if (direct) buildProjections();
   const double target = tolerance * reference;
   report.converged = false;
   double previous = g_.norm();
@@ -339,16 +406,7 @@ bool ImplicitEuler::newton(const ImplicitEulerInput& in, double reference, doubl
     // gradient falls, never finer than the target needs.
     const double forcing =
         std::clamp(std::max(0.9 * ratio * ratio, 0.1 * target / norm), tolerance, 0.1);
-    const auto applyH = [this](const Eigen::VectorXd& w, Eigen::VectorXd& out) { apply(w, out); };
-    const auto filterS = [this](Eigen::VectorXd& w) { filter(w); };
-    const auto blockJacobi = [this](const Eigen::VectorXd& r, Eigen::VectorXd& out) {
-      precondition(r, out);
-    };
-    p_.setZero(n3);
-    trial_ = -g_;
-    report.iterations +=
-        modifiedPcg(applyH, filterS, blockJacobi, trial_, p_, forcing, in.maxIterations, pcg_)
-            .iterations;
+    report.iterations += solveNewtonSystem(forcing, direct);
     ++report.newtonIterations;
     if (!p_.allFinite()) return false;
     x_ = x0_ + h_ * v_;

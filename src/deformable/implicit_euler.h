@@ -22,11 +22,17 @@
 // (reported as the energy slack). The damping force keeps the start's direction u0 too, as in
 // Baraff and Witkin. Assembled and solved in double whatever Real is.
 //
+// Each Newton system is solved by the modified PCG, or, where the springs' graph lets a sparse
+// factor stay sparse (strands: ropes and hair), by a sparse LDL^T of the same filtered system
+// (filtered_ldlt.h): a hair strand resting on a head is long, nearly inextensible and held at
+// many points, and block-Jacobi PCG needed some 600 iterations per solve there.
+//
 // Threads: the passes over springs and vertices (the Hessian's product, its assembly, the
 // gradient, Psi's change) run on the step's workers. A pass over the springs writes one term
 // per spring, then each vertex sums its springs' terms in spring order, the order a serial
-// scatter over the springs adds them, and Psi's change is summed in fixed chunks of springs:
-// the result is the same bytes whatever the number of workers.
+// scatter over the springs adds them, and Psi's change is summed in fixed chunks of springs;
+// the direct solve factors its parts (groups of whole components, fixed by the springs) one
+// per task: the result is the same bytes whatever the number of workers.
 #pragma once
 
 #include <Eigen/Core>
@@ -35,6 +41,7 @@
 #include <span>
 #include <vector>
 
+#include "deformable/filtered_ldlt.h"
 #include "deformable/modified_pcg.h"
 #include "dynamics/step_workers.h"
 #include "inertia/core/types.h"
@@ -96,6 +103,7 @@ struct ImplicitEulerInput {
   double tolerance = 1e-6;
   int maxIterations = 1000;  ///< PCG iterations per Newton step
   int maxNewtonIterations = 20;
+  DeformableLinearSolver linearSolver = DeformableLinearSolver::Automatic;
 };
 
 class ImplicitEuler {
@@ -121,15 +129,16 @@ class ImplicitEuler {
   void start(const ImplicitEulerInput& in, double h, std::span<const Real> x,
              std::span<const Real> v);
   void assemble(const Eigen::VectorXd& v);
+  void invertDiagonalBlocks();
+  bool useDirectSolve();
   double reference();
   bool newton(const ImplicitEulerInput& in, double reference, double tolerance,
               ImplicitSolveReport& report);
   bool updateContactModes();
+  void buildProjections();
+  int solveNewtonSystem(double forcing, bool direct);
   double lineSearch(const Eigen::VectorXd& p);
   double psiChange(const Eigen::VectorXd& p, double alpha) const;
-
-  /// A symmetric 3 x 3 block: xx, yy, zz, xy, xz, yz.
-  using SymmetricBlock = std::array<double, 6>;
 
   void predict();
   void connect();
@@ -170,6 +179,11 @@ class ImplicitEuler {
   Eigen::VectorXd diagonal_;        // M^ + the attachments' part: H's diagonal before springs
   Eigen::VectorXd x0_, v0_, v_, x_, f0_, massDiagonal_, g_, p_, trial_;
   PcgBuffers pcg_;
+  // The direct solve (filtered_ldlt.h) and the filter's block per vertex it reads: -1 where
+  // free, else an index into projections_.
+  FilteredDirectSolve direct_;
+  std::vector<std::int32_t> projectionOf_;
+  std::vector<Eigen::Matrix3d> projections_;
 };
 
 }  // namespace inertia::detail

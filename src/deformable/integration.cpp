@@ -87,7 +87,8 @@ void Deformable::integrateImplicit(Real h, detail::StepWorkers& workers) {
                                          .contacts = w.contacts,
                                          .tolerance = settings_.solverTolerance,
                                          .maxIterations = settings_.solverMaxIterations,
-                                         .maxNewtonIterations = settings_.newtonMaxIterations};
+                                         .maxNewtonIterations = settings_.newtonMaxIterations,
+                                         .linearSolver = settings_.linearSolver};
   lastSolve_ = w.implicit.step(input, h, x_, v_, workers);
 }
 

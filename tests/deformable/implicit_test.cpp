@@ -122,8 +122,11 @@ TEST(ImplicitEuler, ModifiedPcgConvergesToItsTolerance) {
 // its linearisation: on the stretched cloth held all round (whose springs stay stretched, where
 // the step's convex spring energy is the true one) the residual, computed here from the forces
 // alone, is at most the Newton tolerance times its scale plus what rounding v1 to Real leaves, |H|
-// eps |v1| with |H| <= max over rows of m + 2 sqrt(3) h^2 sum k (Gershgorin).
-TEST(ImplicitEuler, StepSolvesBackwardEulerToTheNewtonTolerance) {
+// eps |v1| with |H| <= max over rows of m + 2 sqrt(3) h^2 sum k (Gershgorin). Whichever way the
+// Newton systems are solved (PCG, or the sparse LDL^T).
+class StepSolvesBackwardEuler : public testing::TestWithParam<DeformableLinearSolver> {};
+
+TEST_P(StepSolvesBackwardEuler, ToTheNewtonTolerance) {
   ClothCase s = stretchedCloth();
   // Pinned all round (the 6 inner vertices free), so that no spring can contract to its rest
   // length within the step.
@@ -142,8 +145,9 @@ TEST(ImplicitEuler, StepSolvesBackwardEulerToTheNewtonTolerance) {
   const VectorXd x0 = Eigen::Map<const VecX>(x.data(), Eigen::Index(3 * n)).cast<double>();
   const VectorXd v0 = Eigen::Map<const VecX>(v.data(), Eigen::Index(3 * n)).cast<double>();
   detail::ImplicitEuler solver;
-  const detail::ImplicitEulerInput in{s.model.springs, s.broken, s.masses, s.pinned, s.acceleration,
-                                      s.damping,       {},       {},       tol,      1000};
+  detail::ImplicitEulerInput in{s.model.springs, s.broken, s.masses, s.pinned, s.acceleration,
+                                s.damping,       {},       {},       tol,      1000};
+  in.linearSolver = GetParam();
   const ImplicitSolveReport report = solver.step(in, Real(h), x, v);
   EXPECT_TRUE(report.converged);
   EXPECT_GT(report.newtonIterations, 1);
@@ -173,6 +177,10 @@ TEST(ImplicitEuler, StepSolvesBackwardEulerToTheNewtonTolerance) {
   const double rounding = *std::max_element(rowSum.begin(), rowSum.end()) * eps * v1.norm();
   EXPECT_LE(residual.norm(), tol * start + rounding);
 }
+
+INSTANTIATE_TEST_SUITE_P(ImplicitEuler, StepSolvesBackwardEuler,
+                         testing::Values(DeformableLinearSolver::ConjugateGradient,
+                                         DeformableLinearSolver::Direct));
 
 // Pinned vertices keep their positions to the bit, whatever pulls on them, and free ones move.
 TEST(ImplicitEuler, PinnedVerticesDoNotMove) {

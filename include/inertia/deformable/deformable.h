@@ -24,6 +24,18 @@ namespace detail {
 class StepWorkers;
 }
 
+/// How the implicit step solves each Newton system (src/deformable/implicit_euler.h).
+enum class DeformableLinearSolver : std::uint8_t {
+  /// Direct where its factors stay sparse (ropes, hair: strands), conjugate gradients elsewhere
+  /// (cloth, soft bodies, whose factors fill in).
+  Automatic,
+  /// Baraff and Witkin's modified PCG, block-Jacobi preconditioned, to a relative residual
+  /// between solverTolerance and 0.1 (inexact Newton).
+  ConjugateGradient,
+  /// A sparse LDL^T of the filtered system (Eigen's SimplicialLDLT in minimum-degree order),
+  /// per group of connected components on the step's threads: exact, whatever the condition.
+  Direct,
+};
 
 /// Settings of a deformable (designated initialisers).
 struct DeformableSettings {
@@ -44,6 +56,7 @@ struct DeformableSettings {
   double solverTolerance = 1e-6;
   int solverMaxIterations = 1000;
   int newtonMaxIterations = 20;
+  DeformableLinearSolver linearSolver = DeformableLinearSolver::Automatic;
   /// Vertex-triangle and edge-edge collisions within the deformable (Bridson et al. 2002); in
   /// a World, also with the other deformables that have it.
   bool selfCollision = false;
@@ -76,7 +89,7 @@ struct ObstacleImpulse {
 /// implicit_euler.h).
 struct ImplicitSolveReport {
   int newtonIterations = 0;  ///< Newton steps taken.
-  int iterations = 0;        ///< PCG iterations, over all Newton steps.
+  int iterations = 0;        ///< PCG iterations (1 per direct solve), over all Newton steps.
   double error = 0;          ///< Final gradient relative to its scale.
   /// max(0, G . v1) (J): the step's total energy (kinetic, springs, gravity) is at most this
   /// above its start (0 for an exact solve, which never gains energy).
@@ -213,13 +226,13 @@ class Deformable {
  private:
   struct Scratch;  // src/deformable/scratch.h
   // The stages of step(), each in its own file of src/deformable/.
-  void integrateExplicit(Real h);  // integration.cpp
+  void integrateExplicit(Real h);                                // integration.cpp
   void integrateImplicit(Real h, detail::StepWorkers& workers);  // integration.cpp
-  void holdBodyContacts(Real h);   // obstacle_collision.cpp
-  void pushHeldContacts();         // obstacle_collision.cpp
-  void moveAttachments(Real h);    // attachments.cpp
-  void collide(Real h);            // obstacle_collision.cpp
-  void tear();                     // tearing.cpp
+  void holdBodyContacts(Real h);                                 // obstacle_collision.cpp
+  void pushHeldContacts();                                       // obstacle_collision.cpp
+  void moveAttachments(Real h);                                  // attachments.cpp
+  void collide(Real h);                                          // obstacle_collision.cpp
+  void tear();                                                   // tearing.cpp
 
   DeformableSettings settings_;
   std::vector<Real> x_, v_, masses_;
