@@ -54,7 +54,7 @@ MassSpringModel readRope(const Node& n, Real mass, const SpringStiffness& k, Rea
 // Hair on a head: strands rooted over the cap of a sphere about "position" (hair()).
 MassSpringModel readHair(const Node& n, Real mass, const SpringStiffness& k, Real c) {
   requireDeformableKeys(n, {"position", "orientation", "radius", "cap_angle", "strands",
-                            "segments", "length"});
+                            "segments", "length", "root_body", "root_stiffness"});
   HairSettings s{.pose = readPose(n), .mass = mass, .stiffness = k, .damping = c};
   if (n.has("radius")) s.radius = Real(n.at("radius").number(0, 1e4, true));
   if (n.has("cap_angle")) s.capAngle = Real(n.at("cap_angle").number(0, 3.14159265358979, true));
@@ -207,6 +207,29 @@ void readAttachments(const Node& n, const std::vector<BodyDesc>& bodies, Deforma
   }
 }
 
+// Hair's "root_body": the roots, pinned by hair(), are instead attached to the named body where
+// they start (a head that moves carries them), by springs of "root_stiffness" (1e4 N/m).
+void attachRoots(const Node& n, const std::vector<BodyDesc>& bodies, DeformableDesc& d) {
+  if (!n.has("root_body")) {
+    if (n.has("root_stiffness")) n.at("root_stiffness").fail("needs \"root_body\"");
+    return;
+  }
+  const std::string name = n.at("root_body").string();
+  const auto body = std::find_if(bodies.begin(), bodies.end(),
+                                 [&](const BodyDesc& b) { return b.settings.name == name; });
+  if (body == bodies.end()) n.at("root_body").fail("no body is named \"" + name + "\"");
+  const Transform pose{body->settings.position, body->settings.orientation.normalized()};
+  const Real stiffness =
+      n.has("root_stiffness") ? Real(n.at("root_stiffness").number(0, 1e12, true)) : Real(1e4);
+  for (const std::uint32_t root : d.model.pinned) {
+    d.attachments.push_back({.vertex = root,
+                             .anchor = pose.applyInverse(d.model.positions[root]),
+                             .stiffness = stiffness});
+    d.attachmentBodies.push_back(name);
+  }
+  d.model.pinned.clear();
+}
+
 }  // namespace
 
 DeformableDesc readDeformable(const Node& n, std::size_t index,
@@ -231,6 +254,7 @@ DeformableDesc readDeformable(const Node& n, std::size_t index,
     n.at("type").fail("unknown deformable type \"" + type +
                       "\"; expected rope, hair, cloth, soft_body or mesh");
   readSettings(n, d.settings);
+  if (type == "hair") attachRoots(n, bodies, d);
   if (n.has("pinned")) {
     Node list = n.at("pinned");
     for (std::size_t i = 0; i < list.requireArray(); ++i)

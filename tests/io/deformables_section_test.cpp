@@ -2,6 +2,8 @@
 // JSON pointer.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "inertia/io/scene.h"
 
 namespace inertia::io {
@@ -105,6 +107,40 @@ TEST(DeformablesSection, HairAndSoftBodiesFromMeshes) {
   EXPECT_TRUE(cube.positions[8].isApprox(Vec3(Real(0.25), Real(1.25), Real(0.25))));
 }
 
+// Hair's "root_body": the roots are attached to the head where they start, not pinned, so a
+// turning head carries them round: after a quarter turn at 1 rad/s a root is where the turn
+// puts it, within the spring's lag (m w^2 r / k, 1e-10 m here) and the float positions'
+// rounding, eps |x| per step at most (314 steps: 4e-5 m; 6e-8 measured).
+// The head is smaller than the roots' sphere by more than twice the thickness, so that the
+// roots do not also rest on it.
+TEST(DeformablesSection, HairRootsFollowTheirBody) {
+  const Scene s = parseScene(R"({
+    "world": { "gravity": [0, 0, 0], "dt": 0.005 },
+    "bodies": [ { "name": "head", "type": "kinematic", "position": [0, 1, 0],
+                  "orientation": [0.9238795, 0, 0.3826834, 0], "angular_velocity": [0, 1, 0],
+                  "shapes": [ { "type": "sphere", "radius": 0.09 } ] } ],
+    "deformables": [ { "type": "hair", "position": [0, 1, 0], "radius": 0.1, "cap_angle": 1.2,
+                       "strands": 6, "segments": 4, "length": 0.1, "mass": 0.001,
+                       "thickness": 0.004,
+                       "root_body": "head", "root_stiffness": 2e4 } ] })",
+                             "test.json");
+  const DeformableDesc& d = s.deformables[0];
+  EXPECT_TRUE(d.model.pinned.empty());
+  ASSERT_EQ(d.attachments.size(), 6u);
+  EXPECT_FLOAT_EQ(d.attachments[0].stiffness, 2e4f);
+  auto world = instantiate(s);
+  const Deformable& hair = world->deformable(world->deformables()[0]);
+  const Vec3 root = hair.position(5);  // strand 1's root
+  const Real quarter = Real(3.14159265358979 / 2);
+  const int steps = int(std::lround(quarter / 0.005));
+  for (int i = 0; i < steps; ++i) world->step(Real(0.005));
+  const Real turned = Real(steps) * Real(0.005);
+  const Vec3 expected =
+      Vec3(0, 1, 0) + Quat(Eigen::AngleAxis<Real>(turned, Vec3::UnitY())) * (root - Vec3(0, 1, 0));
+  EXPECT_GT((root - expected).norm(), Real(0.05));  // it moved
+  EXPECT_LT((hair.position(5) - expected).norm(), Real(4e-5));
+}
+
 TEST(DeformablesSection, ErrorsNameTheJsonPointer) {
   EXPECT_EQ(pointerOf(R"({"type": "cloth", "sise": [1, 1]})"), "/deformables/0/sise");
   EXPECT_EQ(pointerOf(R"({"type": "sheet"})"), "/deformables/0/type");
@@ -126,6 +162,11 @@ TEST(DeformablesSection, ErrorsNameTheJsonPointer) {
   EXPECT_EQ(pointerOf(R"({"type": "cloth", "resolution": [2, 2], "attach": [{"vertex": 9}]})"),
             "/deformables/0/attach/0/vertex");
   EXPECT_EQ(pointerOf(R"({"type": "rope", "from": [0, 0, 0], "to": [0, 0, 0]})"), "/deformables/0");
+  EXPECT_EQ(pointerOf(R"({"type": "hair", "root_body": "head"})"), "/deformables/0/root_body");
+  EXPECT_EQ(pointerOf(R"({"type": "hair", "root_stiffness": 10})"),
+            "/deformables/0/root_stiffness");
+  EXPECT_EQ(pointerOf(R"({"type": "rope", "from": [0, 0, 0], "to": [1, 0, 0], "root_body": "a"})"),
+            "/deformables/0/root_body");
   EXPECT_EQ(pointerOf(R"({"type": "soft_body", "shape": {"type": "cone"}})"),
             "/deformables/0/shape/type");
   // A cube without its last face is not closed.
