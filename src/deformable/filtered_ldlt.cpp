@@ -2,6 +2,7 @@
 
 #include <Eigen/OrderingMethods>
 #include <algorithm>
+#include <cmath>
 #include <tuple>
 
 #include "core/union_find.h"
@@ -33,13 +34,53 @@ std::vector<std::uint32_t> minimumDegreeOrder(std::span<const Spring> all,
   return {inverse.indices().begin(), inverse.indices().end()};
 }
 
+// The vertex pairs a part's springs join, as {column, row} blocks of the upper triangle in the
+// elimination order `order` (local indices), sorted and each once.
+std::vector<std::array<std::uint32_t, 2>> upperBlocks(std::span<const Spring> all,
+                                                      std::span<const std::uint32_t> springs,
+                                                      std::span<const std::uint32_t> local,
+                                                      std::span<const std::uint32_t> order) {
+  std::vector<std::uint32_t> position(order.size());
+  for (std::size_t p = 0; p < order.size(); ++p) position[order[p]] = std::uint32_t(p);
+  std::vector<std::array<std::uint32_t, 2>> blocks;
+  blocks.reserve(springs.size());
+  for (const std::uint32_t k : springs) {
+    const std::uint32_t a = position[local[all[k].a]], b = position[local[all[k].b]];
+    if (a != b) blocks.push_back({std::max(a, b), std::min(a, b)});
+  }
+  std::sort(blocks.begin(), blocks.end());
+  blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
+  return blocks;
+}
+
+// The blocks strictly below the diagonal of the factor of a part's vertex graph, counted over
+// its elimination tree by Liu's row subtrees (as Eigen's symbolic analysis counts them) without
+// building the factor; counting stops once past `budget`.
+std::int64_t factorBlocks(std::span<const std::array<std::uint32_t, 2>> upper, std::size_t vertices,
+                          std::int64_t budget) {
+  constexpr std::uint32_t kNone = ~0u;
+  std::vector<std::uint32_t> parent(vertices, kNone), flag(vertices, kNone);
+  std::int64_t count = 0;
+  std::size_t e = 0;
+  for (std::uint32_t k = 0; k < vertices; ++k) {
+    flag[k] = k;
+    for (; e < upper.size() && upper[e][0] == k; ++e)
+      for (std::uint32_t i = upper[e][1]; flag[i] != k; i = parent[i]) {
+        if (parent[i] == kNone) parent[i] = k;
+        flag[i] = k;
+        if (++count > budget) return count;
+      }
+  }
+  return count;
+}
+
 }  // namespace
 
 void FilteredLdlt::connect(std::span<const Spring> all, std::span<const std::uint32_t> springs,
                            std::span<const std::uint32_t> vertices,
-                           std::span<const std::uint32_t> local) {
+                           std::span<const std::uint32_t> local,
+                           std::span<const std::uint32_t> order) {
   // position[local index] = block of A.
-  const std::vector<std::uint32_t> order = minimumDegreeOrder(all, springs, vertices.size(), local);
   std::vector<std::uint32_t> position(vertices.size());
   ordered_.resize(vertices.size());
   for (std::size_t p = 0; p < order.size(); ++p)
@@ -147,8 +188,8 @@ bool FilteredLdlt::factor(const Eigen::VectorXd& diagonal, std::span<const Symme
   filter(projection, context);
   ldlt_.factorize(upper_);
   if (ldlt_.info() != Eigen::Success) return false;
-  const auto d = ldlt_.vectorD();
-  return d.allFinite() && (d.array() > 0).all();
+  inverseD_ = ldlt_.vectorD().cwiseInverse();
+  return inverseD_.allFinite() && (inverseD_.array() > 0).all();
 }
 
 void FilteredLdlt::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
@@ -156,7 +197,7 @@ void FilteredLdlt::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   for (std::size_t p = 0; p < ordered_.size(); ++p)
     permuted_.segment<3>(3 * Eigen::Index(p)) = b.segment<3>(3 * Eigen::Index(ordered_[p]));
   ldlt_.matrixL().solveInPlace(permuted_);
-  permuted_.array() /= ldlt_.vectorD().array();
+  permuted_.array() *= inverseD_.array();
   ldlt_.matrixU().solveInPlace(permuted_);
   for (std::size_t p = 0; p < ordered_.size(); ++p)
     x.segment<3>(3 * Eigen::Index(ordered_[p])) = permuted_.segment<3>(3 * Eigen::Index(p));
@@ -197,22 +238,46 @@ bool FilteredDirectSolve::connect(std::span<const Spring> springs, std::size_t v
   }
   partSprings.resize(partVertices.size());
   for (std::uint32_t k = 0; k < springs.size(); ++k) partSprings[part[springs[k].a]].push_back(k);
+  std::vector<std::vector<std::uint32_t>> orders(partVertices.size());
+  for (std::size_t p = 0; p < partVertices.size(); ++p)
+    orders[p] = minimumDegreeOrder(springs, partSprings[p], partVertices[p].size(), local);
   parts_.clear();
-  for (std::size_t p = 0; p < partVertices.size(); ++p) {
-    parts_.push_back(std::make_unique<FilteredLdlt>());
-    parts_.back()->connect(springs, partSprings[p], partVertices[p], local);
-  }
+  worthIt_ = fillWithin(springs, partVertices, partSprings, local, orders, maxFill);
+  if (worthIt_)
+    for (std::size_t p = 0; p < partVertices.size(); ++p) {
+      parts_.push_back(std::make_unique<FilteredLdlt>());
+      parts_.back()->connect(springs, partSprings[p], partVertices[p], local, orders[p]);
+    }
   factored_.resize(parts_.size());
-  worthIt_ = fill() <= maxFill;
-  if (!worthIt_) parts_.clear();
   return worthIt_;
 }
 
-double FilteredDirectSolve::fill() const {
-  double matrix = 0, factor = 0;
-  for (const auto& p : parts_)
-    matrix += double(p->matrixNonZeros()), factor += double(p->factorNonZeros());
-  return matrix > 0 ? factor / matrix : 0.0;
+// Whether the parts' factors hold at most maxFill times the non-zeros of their matrices' upper
+// triangles, counted per 3 x 3 block: 6 per vertex and 9 per joined pair in A, 3 per vertex
+// and 9 per block below the diagonal in L.
+bool FilteredDirectSolve::fillWithin(std::span<const Spring> springs,
+                                     const std::vector<std::vector<std::uint32_t>>& partVertices,
+                                     const std::vector<std::vector<std::uint32_t>>& partSprings,
+                                     std::span<const std::uint32_t> local,
+                                     const std::vector<std::vector<std::uint32_t>>& orders,
+                                     double maxFill) {
+  if (std::isinf(maxFill)) return true;
+  std::vector<std::vector<std::array<std::uint32_t, 2>>> upper(partVertices.size());
+  double matrix = 0;
+  for (std::size_t p = 0; p < partVertices.size(); ++p) {
+    upper[p] = upperBlocks(springs, partSprings[p], local, orders[p]);
+    matrix += 6.0 * double(partVertices[p].size()) + 9.0 * double(upper[p].size());
+  }
+  double budget = maxFill * matrix;
+  for (std::size_t p = 0; p < partVertices.size(); ++p) {
+    budget -= 3.0 * double(partVertices[p].size());
+    if (budget < 0) return false;
+    const auto blocks = std::int64_t(budget / 9);
+    const std::int64_t used = factorBlocks(upper[p], partVertices[p].size(), blocks);
+    if (used > blocks) return false;
+    budget -= 9.0 * double(used);
+  }
+  return true;
 }
 
 bool FilteredDirectSolve::solve(const Eigen::VectorXd& diagonal,

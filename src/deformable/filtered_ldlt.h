@@ -44,9 +44,11 @@ using ProjectionOf = const Eigen::Matrix3d* (*)(const void* context, std::uint32
 class FilteredLdlt {
  public:
   /// The pattern of H over `vertices` (global indices; `local` maps each to its index in that
-  /// list) and `springs` (indices into `all`), its ordering and symbolic factorisation.
+  /// list) and `springs` (indices into `all`) in the elimination order `order` (local
+  /// indices), and its symbolic factorisation.
   void connect(std::span<const Spring> all, std::span<const std::uint32_t> springs,
-               std::span<const std::uint32_t> vertices, std::span<const std::uint32_t> local);
+               std::span<const std::uint32_t> vertices, std::span<const std::uint32_t> local,
+               std::span<const std::uint32_t> order);
 
   /// Assembles A from H = diag(diagonal) + the springs' blocks (+ at (a, a) and (b, b), - at
   /// (a, b) and (b, a)) and the filter, and factors it. False when the factorisation failed (A
@@ -56,11 +58,6 @@ class FilteredLdlt {
 
   /// x = A^-1 b on this part's vertices (global vectors), after factor() succeeded.
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
-
-  /// Non-zeros of the stored upper triangle of A, and of the factor L (strictly below its
-  /// diagonal).
-  Eigen::Index matrixNonZeros() const { return upper_.nonZeros(); }
-  Eigen::Index factorNonZeros() const { return ldlt_.matrixL().nestedExpression().nonZeros(); }
 
  private:
   void assemble(const Eigen::VectorXd& diagonal, std::span<const SymmetricBlock> blocks);
@@ -91,7 +88,7 @@ class FilteredLdlt {
   double* values_ = nullptr;           // upper_'s values
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper, Eigen::NaturalOrdering<int>>
       ldlt_;
-  Eigen::VectorXd permuted_;
+  Eigen::VectorXd permuted_, inverseD_;
 };
 
 /// The whole system, split into parts by the springs' connected components.
@@ -118,7 +115,9 @@ class FilteredDirectSolve {
   /// Builds the parts when the springs' ends, the vertex count or maxFill changed since the
   /// last call, and says whether the direct solve is worth it here: whether the factors'
   /// non-zeros are at most maxFill times the matrices' (how much the elimination fills in).
-  /// When not, the parts are dropped (the answer is kept for the same springs).
+  /// The count runs over the vertices' elimination tree before any factor is built and stops
+  /// once past the bound (a large sheet or volume costs its ordering, not its factor); when
+  /// not worth it no parts are kept (the answer is, for the same springs).
   bool connect(std::span<const Spring> springs, std::size_t vertices, double maxFill);
 
   /// factor() then solve() on every part, on `workers` when given; false (x unspecified) when
@@ -131,9 +130,15 @@ class FilteredDirectSolve {
   void forget() {
     ends_.clear();
     vertices_ = 0;
+    maxFill_ = 0;
+    worthIt_ = false;
     parts_.clear();
   }
-  double fill() const;
+  static bool fillWithin(std::span<const Spring> springs,
+                         const std::vector<std::vector<std::uint32_t>>& partVertices,
+                         const std::vector<std::vector<std::uint32_t>>& partSprings,
+                         std::span<const std::uint32_t> local,
+                         const std::vector<std::vector<std::uint32_t>>& orders, double maxFill);
 
   std::vector<std::array<std::uint32_t, 2>> ends_;  // the springs' ends the parts are for
   std::size_t vertices_ = 0;

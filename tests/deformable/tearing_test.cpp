@@ -54,7 +54,7 @@ TEST(DeformableTearing, ClothTearsFirstWhereItIsPulledApart) {
                              .resolution = {n, n},
                              .mass = Real(0.2),
                              .stiffness = {.stretch = 50, .shear = 5, .bend = 0}});
-  m.velocities.resize(m.vertexCount());
+  m.velocities.assign(m.vertexCount(), Vec3::Zero());
   for (std::uint32_t i = 0; i < m.vertexCount(); ++i) {
     if (m.positions[i].x() < 0)
       m.pinned.push_back(i);

@@ -33,7 +33,8 @@ enum class DeformableLinearSolver : std::uint8_t {
   /// between solverTolerance and 0.1 (inexact Newton).
   ConjugateGradient,
   /// A sparse LDL^T of the filtered system (Eigen's SimplicialLDLT in minimum-degree order),
-  /// per group of connected components on the step's threads: exact, whatever the condition.
+  /// per group of connected components on the step's threads: backward stable whatever the
+  /// system's condition, with no iteration cap to run out.
   Direct,
 };
 
