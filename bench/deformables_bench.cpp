@@ -263,6 +263,7 @@ void row(const std::string& name, const Result& r, bool iterations) {
     std::printf(" %.1f / %.0f, %d of %d |\n", r.newton, r.iterations, r.converged, kSteps);
   else
     std::printf(" - |\n");
+  std::fflush(stdout);  // a row as soon as it is measured: a run takes up to an hour
 }
 
 // The scene at tolerance 1e-6 on 2 threads and on every core: rows, and whether the final
