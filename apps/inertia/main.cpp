@@ -1,10 +1,9 @@
 // The inertia command: runs and checks scene files (DESIGN.md section 5).
+#include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
 #include <exception>
 #include <string>
-
-#include <CLI/CLI.hpp>
 
 #include "render_command.h"
 #include "run_command.h"
@@ -62,17 +61,22 @@ int main(int argc, char** argv) {
 
   RenderOptions render;
   CLI::App* renderCmd = app.add_subcommand("render", "Draw a scene offscreen to PNG, MP4 or GIF");
-  renderCmd->add_option("scene", render.scene, "Scene file (JSON)")->required();
   renderCmd
-      ->add_option("--out,-o", render.out,
-                   "Output: FILE.png (one frame), FRAME_%04d.png (a sequence), FILE.mp4 or FILE.gif")
+      ->add_option("scene", render.scene,
+                   "Scene file (JSON), or a built-in sample's name (as the viewer lists them)")
+      ->required();
+  renderCmd
+      ->add_option(
+          "--out,-o", render.out,
+          "Output: FILE.png (one frame), FRAME_%04d.png (a sequence), FILE.mp4 or FILE.gif")
       ->required();
   renderCmd->add_option("--duration", render.duration, "Simulated seconds of video, default 10")
       ->check(kFinitePositive);
   renderCmd->add_option("--time", render.time, "Time (s) of a single PNG, default the duration")
       ->check(CLI::NonNegativeNumber);
   renderCmd->add_option("--size", render.size, "Image size WIDTHxHEIGHT, default 1280x720");
-  renderCmd->add_option("--fps", render.fps, "Frames per second, default 30")->check(kFinitePositive);
+  renderCmd->add_option("--fps", render.fps, "Frames per second, default 30")
+      ->check(kFinitePositive);
   renderCmd->add_option("--threads", render.threads, "Worker threads (0: all cores)")
       ->check(CLI::Range(0, 1024));
   renderCmd->add_option("--samples", render.samples, "Multisamples per pixel (1: none), default 4")

@@ -3,7 +3,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <functional>
 #include <memory>
+#include <optional>
+#include <system_error>
 #include <vector>
 
 #include "camera.h"
@@ -13,6 +17,7 @@
 #include "progress.h"
 #include "renderer.h"
 #include "run_command.h"
+#include "samples.h"
 
 namespace inertia::app {
 
@@ -32,7 +37,6 @@ viewer::ShapeColors shapeColors(const io::Scene& scene) {
   }
   return colors;
 }
-
 
 // Out of line: messages built by concatenation (GCC 12's false -Warray-bounds when inlined).
 [[gnu::noinline]] int badInput(const char* what, const std::string& message) {
@@ -75,7 +79,16 @@ int renderScene(const RenderOptions& o) {
     return badInput("--time: ", "only for a single .png; sequences and videos use --duration");
 
   io::Scene scene;
-  if (!loadSceneReporting(o.scene, scene)) return kBadInput;
+  std::function<void(World&)> control;  // a built-in sample's controller
+  const std::vector<viewer::Sample> builtins = viewer::builtinSamples();
+  const std::optional<std::size_t> builtin = viewer::findSample(builtins, o.scene);
+  std::error_code ec;
+  if (builtin && !std::filesystem::is_regular_file(o.scene, ec)) {
+    scene = builtins[*builtin].build();
+    control = builtins[*builtin].control;
+  } else if (!loadSceneReporting(o.scene, scene)) {
+    return kBadInput;
+  }
   if (o.threads) scene.world.threads = *o.threads;
   std::unique_ptr<World> world = instantiateReporting(o.scene, scene);
   if (!world) return kBadInput;
@@ -107,7 +120,10 @@ int renderScene(const RenderOptions& o) {
     Progress progress(!o.quiet, std::int64_t(times.size()), "frame");
     for (std::size_t k = 0; k < times.size(); ++k) {
       const std::int64_t steps = stepsAt(times[k], dt);
-      while (world->stepCount() < steps) world->step(scene.world.dt);
+      while (world->stepCount() < steps) {
+        if (control) control(*world);
+        world->step(scene.world.dt);
+      }
       target.bind();
       renderer.draw(*world, camera, width, height);
       const std::vector<std::uint8_t> rgb = target.readRgb();

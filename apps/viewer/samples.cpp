@@ -9,6 +9,9 @@
 #include <string>
 #include <system_error>
 
+#include "inertia/articulation/builders.h"
+#include "inertia/articulation/dynamics.h"
+#include "inertia/articulation/kinematics.h"
 #include "inertia/world/builders.h"
 
 namespace inertia::viewer {
@@ -365,6 +368,144 @@ io::Scene kinematicDriver() {
   return jointScene(a, Vec3(0, 5, 10), Vec3(0, 3, 0));
 }
 
+// ---- Articulations -------------------------------------------------------------------------
+
+namespace art = inertia::articulation;
+
+// The 7-DOF arm (art::sevenDofArm, z up in its base frame) stood on the ground of the y-up
+// world, and the moving target its hand follows: a circle in front of it.
+const Transform kArmBase{
+    Vec3(0, Real(0.06), 0),
+    Quat(Eigen::AngleAxis<Real>(-std::numbers::pi_v<Real> / 2, Vec3::UnitX()))};
+const Vec3 kArmTool(0, 0, Real(0.107));  // the hand's point in the last link's frame (m)
+constexpr Real kTargetRate = Real(0.8);  // rad/s around the circle
+
+Vec3 armTarget(double t, Vec3* velocity = nullptr) {
+  const Real a = kTargetRate * Real(t);
+  if (velocity) *velocity = Real(0.2) * kTargetRate * Vec3(0, std::cos(a), -std::sin(a));
+  return Vec3(Real(0.45), Real(0.55) + Real(0.2) * std::sin(a), Real(0.2) * std::cos(a));
+}
+
+// Capsules from each link's origin to its child's joint (a sphere where they coincide), and the
+// hand's sphere on the last.
+std::vector<LinkShapeSettings> armShapes(const art::Model<Real>& model) {
+  std::vector<LinkShapeSettings> shapes;
+  const Real r = Real(0.055);
+  for (int i = 0; i < model.linkCount(); ++i) {
+    const Vec3 to = i + 1 < model.linkCount() ? Vec3(model.link(i + 1).Xtree.r) : kArmTool;
+    LinkShapeSettings s{.link = i, .shape = Sphere{Real(0.065)}};
+    if (to.norm() > Real(0.01)) {
+      s.shape = Capsule{r, to.norm() / 2};
+      s.pose = {to / 2, Quat::FromTwoVectors(Vec3::UnitY(), to)};
+    }
+    shapes.push_back(s);
+  }
+  shapes.push_back({.link = model.linkCount() - 1,
+                    .shape = Sphere{Real(0.045)},
+                    .pose = {kArmTool, Quat::Identity()}});
+  return shapes;
+}
+
+// The arm in its ready pose on PD drives, and the target: a kinematic sphere that touches
+// nothing (collision mask 0).
+io::Scene armFollowingATarget() {
+  io::ArticulationDesc arm;
+  WorldArticulationSettings& s = arm.settings;
+  s.name = "arm";
+  s.model = art::sevenDofArm<Real>();
+  s.shapes = armShapes(s.model);
+  s.base = kArmBase;
+  s.q = art::VectorX<Real>(7);
+  s.q << 0, Real(-0.3), 0, Real(-2.2), 0, 2, Real(0.785);
+  for (int i = 0; i < 7; ++i)
+    s.model.setDrive(i, {.stiffness = i < 4 ? Real(800) : Real(200),
+                         .damping = i < 4 ? Real(80) : Real(20),
+                         .targetPosition = s.q(i)});
+  BodyDesc target = body(BodyType::Kinematic, armTarget(0), Quat::Identity(), Sphere{Real(0.03)});
+  target.settings.name = "target";
+  target.shapes[0].filter.mask = 0;
+  tint(target, kRed);
+  io::Scene scene =
+      sceneOf({target}, Vec3(Real(1.5), Real(0.9), Real(1.1)), Vec3(Real(0.25), Real(0.45), 0));
+  scene.articulations.push_back(std::move(arm));
+  return scene;
+}
+
+// Before each step: the target moves on; the hand's error and the target's velocity go
+// through the arm's point Jacobian by damped least squares (dq = J^T (J J^T + l^2)^-1 dx) into
+// the drives' targets, and the joints get gravity's torques (RNEA at rest) as feed-forward.
+void followTarget(World& world) {
+  BodyId target;
+  for (BodyId b : world.rigidBodies().bodies())
+    if (world.rigidBodies().name(b) == "target") target = b;
+  const std::vector<ArticulationId> ids = world.articulations();
+  if (target.isNull() || ids.empty()) return;
+  const Real dt = world.settings().dt;
+  Vec3 velocity;
+  const Vec3 goal = armTarget(world.time() + double(dt), &velocity);
+  world.rigidBodies().moveKinematic(target, {goal, Quat::Identity()}, dt);
+  art::Articulation<Real>& arm = world.articulation(ids.front());
+  const art::Model<Real>& model = arm.model();
+  const art::VectorX<Real> q = arm.q();
+  const int hand = model.linkCount() - 1;
+  const Mat3 toBase = kArmBase.q.toRotationMatrix().transpose();
+  const Vec3 error = toBase * (goal - kArmBase.p) - art::pointPosition(model, q, hand, kArmTool);
+  const Eigen::Matrix<Real, 3, Eigen::Dynamic> J =
+      art::pointJacobian(model, q, hand, kArmTool).bottomRows<3>();
+  const Mat3 JJt = J * J.transpose() + Real(0.01) * Mat3::Identity();
+  const art::VectorX<Real> dq = J.transpose() * JJt.ldlt().solve(error);
+  const art::VectorX<Real> qd = J.transpose() * JJt.ldlt().solve(toBase * velocity);
+  for (int i = 0; i < model.nv(); ++i)
+    arm.setDriveTarget(i, std::clamp(q(i) + dq(i), model.lower()(i), model.upper()(i)), qd(i));
+  arm.setJointForces(art::rnea(model, q, art::VectorX<Real>::Zero(model.nv()),
+                               art::VectorX<Real>::Zero(model.nv())));
+}
+
+// The same eight-link pendulum twice, released 1.2 rad out: in reduced coordinates (an
+// articulation of revolute joints, blue) and in maximal ones (spheres on hinge joints, steel),
+// side by side. Equal masses and inertias; neither collides with itself.
+io::Scene chainsSideBySide() {
+  const int links = 8;
+  const Real length = Real(0.3), mass = Real(0.5), radius = Real(0.06);
+  const Real inertia = Real(0.4) * mass * radius * radius;
+  const Vec3 pivot(0, Real(3.2), 0);
+  io::ArticulationDesc tree;
+  WorldArticulationSettings& s = tree.settings;
+  s.name = "reduced";
+  s.base = {pivot + Vec3(0, 0, Real(-0.4)), Quat::Identity()};
+  for (int i = 0; i < links; ++i) {
+    s.model.addLink({.name = "l" + std::to_string(i),
+                     .parent = i - 1,
+                     .joint = {.type = art::JointType::Revolute,
+                               .originPosition = i == 0 ? Vec3::Zero() : Vec3(0, -length, 0),
+                               .axis = Vec3::UnitZ()},
+                     .inertia = {mass, Vec3(0, -length, 0), Mat3::Identity() * inertia}});
+    s.shapes.push_back({.link = i,
+                        .shape = Sphere{radius},
+                        .pose = {Vec3(0, -length, 0), Quat::Identity()},
+                        .material = {.friction = 0}});
+  }
+  s.q = art::VectorX<Real>::Zero(links);
+  s.q(0) = Real(1.2);
+  Assembly a;
+  const Quat turn = about(Vec3::UnitZ(), Real(1.2));
+  const Vec3 offset(0, 0, Real(0.4));
+  Material steel{
+      .density = mass / (Real(4.0 / 3.0) * std::numbers::pi_v<Real> * radius * radius * radius),
+      .friction = 0};
+  for (int i = 0; i < links; ++i) {
+    const Vec3 at = pivot + offset + turn * Vec3(0, -length * Real(i + 1), 0);
+    addPart(a, BodyType::Dynamic, at, turn, Sphere{radius}, kSteel, steel);
+    a.bodies.back().shapes[0].filter.group = -1;  // the chain's spheres pass each other
+    const Vec3 hinge = pivot + offset + turn * Vec3(0, -length * Real(i), 0);
+    a.joints.push_back({hingeJointAt(a, i - 1, i, hinge, Vec3::UnitZ()), i - 1, i});
+  }
+  addMount(a, pivot + offset);
+  io::Scene scene = jointScene(a, Vec3(Real(2.5), Real(2.2), Real(6)), Vec3(0, Real(2), 0));
+  scene.articulations.push_back(std::move(tree));
+  return scene;
+}
+
 }  // namespace
 
 std::vector<Sample> builtinSamples() {
@@ -399,6 +540,8 @@ std::vector<Sample> builtinSamples() {
   s.push_back({"Joints", "Car", car});
   s.push_back({"Joints", "Slider-crank", sliderCrank});
   s.push_back({"Joints", "Kinematic driver", kinematicDriver});
+  s.push_back({"Articulations", "Arm following a target", armFollowingATarget, {}, followTarget});
+  s.push_back({"Articulations", "Reduced and maximal chains", chainsSideBySide});
   return s;
 }
 

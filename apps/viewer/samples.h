@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "inertia/io/scene.h"
+#include "inertia/world/world.h"
 
 namespace inertia::viewer {
 
@@ -21,9 +22,13 @@ struct Sample {
   /// io::SceneError (a scene file) or InvalidArgument.
   std::function<io::Scene()> build;
   std::filesystem::path file{};  ///< The scene file, empty for a built-in sample.
+  /// A built-in sample's controller, called before every physics step (an arm's inverse
+  /// kinematics): it reads and drives the world as a user's code would. Empty for most.
+  std::function<void(World&)> control{};
 };
 
-/// The built-in samples (Stacking, Collision, Contacts, Joints), made by the shared builders.
+/// The built-in samples (Stacking, Collision, Contacts, Joints, Articulations), made by the
+/// shared builders.
 std::vector<Sample> builtinSamples();
 
 /// One sample per *.json file of `dir` (not recursive), sorted by file name, named by the file's

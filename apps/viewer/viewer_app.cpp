@@ -278,6 +278,7 @@ class App {
     spring_.reset();
     playback_->beforeStep = [this](World& w) {
       if (spring_) applySpring(w, *spring_);
+      if (samples_[current_].control) samples_[current_].control(w);
     };
     meter_.reset(world);
   }

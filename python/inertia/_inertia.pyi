@@ -472,7 +472,8 @@ class World:
                             orientation: Optional[QuatLike] = None,
                             q: Optional[npt.ArrayLike] = None, qd: Optional[npt.ArrayLike] = None,
                             constraint_iterations: int = 20,
-                            limit_baumgarte: float = 0.2) -> Articulation:
+                            limit_baumgarte: float = 0.2,
+                            self_collision: bool = False) -> Articulation:
         """The base frame at position (m) and orientation [w, x, y, z]; q (nq,) and qd (nv,)
         the initial state (default: the neutral configuration at rest)."""
     def destroy_articulation(self, articulation: Union[Articulation, ArticulationId]) -> None: ...

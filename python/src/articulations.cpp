@@ -70,7 +70,8 @@ RealArray linkRows(const PyArticulation& a, py::ssize_t cols, Get get) {
 
 PyArticulation createArticulation(py::object self, const PyModel& model, std::string name,
                                   py::handle position, py::handle orientation, py::handle q,
-                                  py::handle qd, int constraintIterations, Real limitBaumgarte) {
+                                  py::handle qd, int constraintIterations, Real limitBaumgarte,
+                                  bool selfCollision) {
   PyWorld& w = self.cast<PyWorld&>();
   WorldArticulationSettings s;
   s.name = name.empty() ? defaultName(*std::as_const(w)) : std::move(name);
@@ -85,6 +86,7 @@ PyArticulation createArticulation(py::object self, const PyModel& model, std::st
   if (!qd.is_none()) s.qd = toVector(qd, "qd", model.model.nv());
   s.solver.constraintIterations = constraintIterations;
   s.solver.limitBaumgarte = limitBaumgarte;
+  s.selfCollision = selfCollision;
   return PyArticulation{self, w->createArticulation(s)};
 }
 
@@ -258,7 +260,7 @@ void bindWorldMethods(py::module_& m) {
            py::arg("name") = "", py::arg("position") = py::none(),
            py::arg("orientation") = py::none(), py::arg("q") = py::none(),
            py::arg("qd") = py::none(), py::arg("constraint_iterations") = 20,
-           py::arg("limit_baumgarte") = 0.2,
+           py::arg("limit_baumgarte") = 0.2, py::arg("self_collision") = false,
            "Adds an articulation of an ArticulationModel (copied) and returns its handle. "
            "name (default 'articulationN'): its links' bodies are named NAME/LINK; the base "
            "frame at position (m) and orientation [w, x, y, z] in the world; q (nq,) and qd "
@@ -266,7 +268,9 @@ void bindWorldMethods(py::module_& m) {
            "constraint_iterations (1..1000): kept with the model, for C++'s Articulation::step "
            "alone; in a world the joint rows are swept with the contacts, once per solver and "
            "relax iteration of the world; "
-           "limit_baumgarte: the fraction (0..1) of a limit's violation removed per step.")
+           "limit_baumgarte: the fraction (0..1) of a limit's violation removed per step; "
+           "self_collision: its links collide with each other (each with all but its parent "
+           "and children).")
       .def(
           "destroy_articulation",
           [](PyWorld& w, py::handle a) {

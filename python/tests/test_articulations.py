@@ -297,6 +297,32 @@ def test_arrays_have_their_shapes_and_writing_them_moves_the_links():
     assert accel == pytest.approx(float(np.linalg.solve(H, [1.0, 0, 0, 0])[0]), rel=1e-3)
 
 
+def test_self_collision_makes_contacts_between_a_trees_own_links():
+    # Three 0.6 m bars on z hinges folded into a Z: the third crosses the first (two links
+    # apart), each bar touches its neighbours at their hinges. Only with self_collision is
+    # there a contact, and only between the first and the third.
+    model = inertia.ArticulationModel()
+    shape = inertia.LinkShape(inertia.Box((0.3, 0.05, 0.05)), inertia.Material(density=500),
+                              position=(0.3, 0, 0))
+    model.add_link("a", joint="revolute", axis=(0, 0, 1), shapes=[shape])
+    model.add_link("b", parent="a", joint="revolute", axis=(0, 0, 1),
+                   origin_position=(0.6, 0, 0), shapes=[shape])
+    model.add_link("c", parent="b", joint="revolute", axis=(0, 0, 1),
+                   origin_position=(0.6, 0, 0), shapes=[shape])
+    pairs = {}
+    for self_collision in (False, True):
+        world = inertia.World(gravity=(0, 0, 0))
+        art = world.create_articulation(model, name="z", q=[0, 2.9, 2.9],
+                                        self_collision=self_collision)
+        world.step()
+        names = [sorted((world.body_name(c.body_a), world.body_name(c.body_b)))
+                 for c in world.contacts()]
+        pairs[self_collision] = names
+        assert np.all(np.isfinite(art.q))
+    assert pairs[False] == []
+    assert pairs[True] == [["z/a", "z/c"]]
+
+
 def test_scene_articulations_by_name(scenes):
     world = inertia.load_scene(str(scenes / "articulations.json"))
     names = [a.name for a in world.articulations()]

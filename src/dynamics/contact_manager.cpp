@@ -233,8 +233,12 @@ void updateBroadPhase(RigidBodyData& D, Real dt, const ContactTuning& tuning,
     if (fa.bodyType != BodyType::Dynamic && fb.bodyType != BodyType::Dynamic) return;
     if (!fa.awake && !fb.awake) return;
     if (!shouldCollide(fa.filter, fb.filter)) return;
-    // The links of one articulation do not collide with each other.
-    if (fa.group >= 0 && fa.group == fb.group) return;
+    // The links of one articulation collide with each other only with its self-collision,
+    // and never with their parent.
+    if (fa.group >= 0 && fa.group == fb.group &&
+        !D.multibodies[std::size_t(fa.group)].membersCollide(D.bodies[fa.body].member,
+                                                             D.bodies[fb.body].member))
+      return;
     if (fa.jointed && fb.jointed && D.jointPrevents(fa.body, fb.body)) return;
     out.emplace_back(a, b);
   };

@@ -95,12 +95,6 @@ JointRecord commonRecord(Data& D, const S& s, JointType type, const char* name) 
   check(D.isValidBody(s.bodyB), name, "bodyB", "is not a valid body");
   check(s.bodyA.isNull() || D.isValidBody(s.bodyA), name, "bodyA", "is not a valid body");
   check(s.bodyA != s.bodyB, name, "bodyB", "must differ from bodyA (a body joined to itself)");
-  // A joint may close a loop through an articulation's links (multibody_contacts.h), but not
-  // within one tree: its rows would need the tree's cross response between the two links.
-  check(s.bodyA.isNull() || D.bodies[s.bodyB.index].group < 0 ||
-            D.bodies[s.bodyA.index].group != D.bodies[s.bodyB.index].group,
-        name, "bodyB",
-        "is a link of bodyA's articulation (a loop within one tree is not supported)");
   check(allFinite(s.anchorA), name, "anchorA", "must be finite (m)");
   check(allFinite(s.anchorB), name, "anchorB", "must be finite (m)");
   check(!std::isnan(s.breakForce) && s.breakForce >= 0, name, "breakForce", "must be >= 0 (N)");

@@ -35,6 +35,19 @@ Mat3 responseMatrix(Data& D, const MultibodySide& s, int handle, const Vec3& r) 
   return b.invMass * Mat3::Identity() - R * b.invInertia * R;
 }
 
+// The rows' W between sides a and b (the relative velocity B - A per unit impulse P on B, -P on
+// A): each side's own response, less the coupling where both sides are points of one group (two
+// links of a tree: an impulse on one moves the other).
+Mat3 pairResponse(Data& D, const MultibodySide& a, int ha, const Vec3& rA, const MultibodySide& b,
+                  int hb, const Vec3& rB) {
+  Mat3 W = responseMatrix(D, a, ha, rA) + responseMatrix(D, b, hb, rB);
+  if (a.group >= 0 && a.group == b.group) {
+    const Mat3 C = response(D, a).crossResponse(ha, hb);
+    W -= C + C.transpose();
+  }
+  return W;
+}
+
 Vec3 displacement(Data& D, const MultibodySide& s, int handle, const Vec3& r) {
   if (s.group >= 0) return response(D, s).pointDisplacement(handle);
   if (s.body < 0) return Vec3::Zero();
@@ -99,8 +112,7 @@ void preparePoints(Data& D, const DynamicsSettings& s, MultibodyContact& c) {
   Real tangentialSpeed2 = 0;
   for (int k = 0; k < c.pointCount; ++k) {
     MultibodyPoint& p = c.points[std::size_t(k)];
-    const Mat3 W =
-        responseMatrix(D, c.a, p.handle[0], p.rA) + responseMatrix(D, c.b, p.handle[1], p.rB);
+    const Mat3 W = pairResponse(D, c.a, p.handle[0], p.rA, c.b, p.handle[1], p.rB);
     p.normalMass = invEffective(c.normal.dot(W * c.normal));
     for (int t = 0; t < 2; ++t) {
       p.tangentMass[std::size_t(t)] = invEffective(c.tangent[t].dot(W * c.tangent[t]));
@@ -125,7 +137,7 @@ Vec3 arm(const Data& D, const MultibodySide& s, const Vec3& r) {
   return D.solverBodies[std::size_t(s.body)].dR * r;
 }
 
-// The rows' effective mass (W_A + W_B)^-1 at the anchors now: made again after every position
+// The rows' effective mass W^-1 at the anchors now (pairResponse): made again after every position
 // update (JointPass::stamp), as the coloured joints' are, since a hung body's turn within the
 // step moves its anchor's response (a small sphere on a long arm: its W spans 1 : 91).
 //
@@ -133,8 +145,8 @@ Vec3 arm(const Data& D, const MultibodySide& s, const Vec3& r) {
 // along the bars of a straight linkage. Its pseudo-inverse leaves those directions alone
 // (eigenvalues below 1e-6 of the largest: far below any real response, above float rounding).
 void updateJointMass(Data& D, MultibodyJoint& m) {
-  const Mat3 W = responseMatrix(D, m.a, m.handle[0], arm(D, m.a, m.rA)) +
-                 responseMatrix(D, m.b, m.handle[1], arm(D, m.b, m.rB));
+  const Mat3 W =
+      pairResponse(D, m.a, m.handle[0], arm(D, m.a, m.rA), m.b, m.handle[1], arm(D, m.b, m.rB));
   const Eigen::SelfAdjointEigenSolver<Mat3> eig(W);
   const Vec3 lambda = eig.eigenvalues();
   Vec3 inverse = Vec3::Zero();

@@ -184,6 +184,14 @@ inline ProxyType proxyType(BodyType t) {
 struct MultibodyGroup {
   MultibodyResponse* response = nullptr;  // null when the slot is free
   std::vector<std::uint32_t> members;     // body slots, by member index
+  // Self-collision: each member's parent member (-1 at a root); empty when the members never
+  // collide with each other.
+  std::vector<int> parents;
+  // Whether members i and j (i != j) may collide: with self-collision on, unless one is the
+  // other's parent (a joint's two links touch by construction).
+  bool membersCollide(int i, int j) const {
+    return !parents.empty() && parents[std::size_t(i)] != j && parents[std::size_t(j)] != i;
+  }
 };
 
 // One side of a contact that touches a driven body: a solver body (-1 for a static one), or a
@@ -219,8 +227,8 @@ struct MultibodyContact {
 };
 
 // A ball joint with a driven body on a side: a loop closed through an articulation's links (a
-// four-bar linkage, a body hung from a robot's hand). Its three point rows keep the anchors
-// together, solved beside the driven contacts (multibody_contacts.h).
+// four-bar linkage, a body hung from a robot's hand, two branches of one tree). Its three point
+// rows keep the anchors together, solved beside the driven contacts (multibody_contacts.h).
 struct MultibodyJoint {
   std::uint32_t joint = 0;
   MultibodySide a, b;
@@ -228,7 +236,7 @@ struct MultibodyJoint {
   Vec3 rA = Vec3::Zero();             // anchors from the rigid sides' centres of mass (m)
   Vec3 rB = Vec3::Zero();
   Vec3 separation = Vec3::Zero();  // anchor B - anchor A at the step's start (m)
-  Mat3 mass = Mat3::Zero();        // (W_A + W_B)^-1, the rows' effective mass (kg)
+  Mat3 mass = Mat3::Zero();        // W^-1, the rows' effective mass (kg; pairResponse)
   int stamp = -1;                  // the position update `mass` was made for (JointPass)
   Vec3 impulse = Vec3::Zero();     // accumulated, on B (N s, world)
 };
@@ -287,9 +295,9 @@ struct RigidBodyData {
     ShapeType type = ShapeType::Sphere;
     BodyType bodyType = BodyType::Static;
     bool awake = false;
-    bool fast = false;     // its body is continuous this step (BodyRecord::fast)
-    bool jointed = false;  // its body has an enabled joint whose bodies do not collide
-    int group = -1;        // its body's multibody group (BodyRecord::group)
+    bool fast = false;       // its body is continuous this step (BodyRecord::fast)
+    bool jointed = false;    // its body has an enabled joint whose bodies do not collide
+    int group = -1;          // its body's multibody group (BodyRecord::group)
     CollisionFilter filter;  // ShapeRecord::filter
     Real radius = std::numeric_limits<Real>::infinity();  // ShapeRecord::radius
   };

@@ -497,8 +497,14 @@ void RigidBodySystem::applyAngularImpulse(BodyId id, const Vec3& L) {
 
 void RigidBodySystem::wake(BodyId id) { d_->wake(d_->body(id)); }
 
-int RigidBodySystem::addMultibody(MultibodyResponse* response, std::span<const BodyId> members) {
+int RigidBodySystem::addMultibody(MultibodyResponse* response, std::span<const BodyId> members,
+                                  std::span<const int> selfCollisionParents) {
   require(response != nullptr, "RigidBodySystem::addMultibody: the response is null");
+  require(selfCollisionParents.empty() || selfCollisionParents.size() == members.size(),
+          "RigidBodySystem::addMultibody: one parent per member, or none");
+  for (const int parent : selfCollisionParents)
+    require(parent >= -1 && parent < int(members.size()),
+            "RigidBodySystem::addMultibody: a parent is not a member index");
   Data& D = *d_;
   for (const BodyId id : members) {
     const BodyRecord& b = D.body(id);
@@ -512,6 +518,7 @@ int RigidBodySystem::addMultibody(MultibodyResponse* response, std::span<const B
   detail::MultibodyGroup& group = D.multibodies[g];
   group.response = response;
   group.members.clear();
+  group.parents.assign(selfCollisionParents.begin(), selfCollisionParents.end());
   for (std::size_t m = 0; m < members.size(); ++m) {
     BodyRecord& b = D.body(members[m]);
     b.group = static_cast<int>(g);
@@ -520,7 +527,7 @@ int RigidBodySystem::addMultibody(MultibodyResponse* response, std::span<const B
     D.wake(b);
     group.members.push_back(members[m].index);
   }
-  // The members' pairs with each other go.
+  // The members' pairs with each other go (or stay, where they collide).
   D.pairsDirty = true;
   return static_cast<int>(g);
 }

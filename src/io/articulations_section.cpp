@@ -185,12 +185,13 @@ UrdfRobot readUrdf(const Node& n, bool floating) {
 
 ArticulationDesc readArticulation(const Node& n, std::size_t index,
                                   const MaterialTable& materials) {
-  n.requireObject(
-      {"name", "urdf", "base", "position", "orientation", "q", "qd", "drives", "links"});
+  n.requireObject({"name", "urdf", "base", "position", "orientation", "q", "qd", "drives", "links",
+                   "self_collision"});
   ArticulationDesc d;
   d.pointer = n.pointer().to_string();
   WorldArticulationSettings& s = d.settings;
   s.name = n.has("name") ? n.at("name").string() : "articulation" + std::to_string(index);
+  if (n.has("self_collision")) s.selfCollision = n.at("self_collision").boolean();
   bool floating = false;
   if (n.has("base")) {
     Node b = n.at("base");

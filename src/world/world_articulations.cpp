@@ -55,7 +55,10 @@ ArticulationId World::createArticulation(const WorldArticulationSettings& s) {
   while (index < articulationSlots_.size() && articulationSlots_[index].articulation) ++index;
   if (index == articulationSlots_.size()) articulationSlots_.emplace_back();
   ArticulationSlot& slot = articulationSlots_[index];
-  slot.group = bodies_.addMultibody(response.get(), links);
+  std::vector<int> parents;
+  if (s.selfCollision)
+    for (int i = 0; i < s.model.linkCount(); ++i) parents.push_back(s.model.link(i).parent);
+  slot.group = bodies_.addMultibody(response.get(), links, parents);
   slot.articulation = std::move(art);
   slot.response = std::move(response);
   slot.links = std::move(links);

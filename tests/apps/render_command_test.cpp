@@ -81,6 +81,17 @@ TEST_F(Render, PngHasTheRequestedSizeAndIsNotBlank) {
   EXPECT_GT(red, 20);
 }
 
+// A built-in sample is rendered by its name (with its controller), when no file has that name.
+TEST_F(Render, BuiltinSampleByName) {
+  CliResult r = runCli("render \"Arm following a target\" -q --out " + path("arm.png") +
+                       " --size 160x120 --time 0.5");
+  ASSERT_EQ(r.code, 0) << r.output;
+  RenderedPng png;
+  ASSERT_TRUE(png.load(path("arm.png")));
+  EXPECT_GT(png.lumaVariance(), 100.0);
+  EXPECT_EQ(runCli("render \"No such sample\" -q --out " + path("x.png")).code, 2);
+}
+
 TEST_F(Render, FallingBallMovesDownTheImage) {
   const std::string scene = write("ball.json", kFallingBall);
   // y(t) = 4 - g t^2 / 2: 4 m at t = 0, 2.2 m at t = 0.6 s (before touching the ground).

@@ -49,6 +49,14 @@ TEST(ArticulationsSection, ReadsLinksJointsShapesAndState) {
   EXPECT_NEAR(s.model.link(1).mass, Real(4), Real(1e-5));
   ASSERT_EQ(s.shapes.size(), 2u);
   EXPECT_EQ(s.shapes[1].link, 1);
+  EXPECT_FALSE(s.selfCollision);  // off unless the file says so
+}
+
+TEST(ArticulationsSection, SelfCollisionIsOptIn) {
+  const io::Scene scene = parseScene(R"({"articulations": [{"name": "a", "self_collision": true,
+      "links": [{"name": "l", "joint": {"type": "revolute"}, "mass": 1}]}]})",
+                                     "test.json");
+  EXPECT_TRUE(scene.articulations[0].settings.selfCollision);
 }
 
 // Built, the links are bodies named ARTICULATION/LINK at the joints' poses: l1 turned by 0.5
@@ -119,7 +127,10 @@ INSTANTIATE_TEST_SUITE_P(
                 "/articulations/0/q/m", "no link named"},
         BadCase{R"({"name": "a", "links": [{"name": "l", "joint": {"type": "revolute"},
                     "mass": 1, "shapes": [{"type": "plane", "normal": [0, 1, 0]}]}]})",
-                "/articulations/0/links/0/shapes/0", "plane"}));
+                "/articulations/0/links/0/shapes/0", "plane"},
+        BadCase{R"({"name": "a", "self_collision": 1, "links": [{"name": "l",
+                    "joint": {"type": "revolute"}, "mass": 1}]})",
+                "/articulations/0/self_collision", "expected true or false"}));
 
 // Two articulations of one name, or a link body named as a body already is, clash.
 TEST(ArticulationsSection, NamesAreUnique) {

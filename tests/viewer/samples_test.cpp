@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +17,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "inertia/articulation/model.h"
 #include "inertia/world/builders.h"
 #include "playback.h"
 
@@ -33,6 +35,7 @@ fs::path scenesDir() {
 void runSixtyFrames(const Sample& sample) {
   SCOPED_TRACE(sample.group + "/" + sample.name);
   Playback playback(sample.build());
+  playback.beforeStep = sample.control;
   int steps = 0;
   for (int frame = 0; frame < 60; ++frame) steps += playback.frame(1.0 / 60);
   const World& world = playback.world();
@@ -79,7 +82,8 @@ TEST(Samples, ParticleAndDeformableScenesAreGroupedApart) {
 TEST(Samples, BuiltinsAreGroupedAndUseTheSharedBuilders) {
   const std::vector<Sample> builtins = builtinSamples();
   const std::vector<std::string> groups = sampleGroups(builtins);
-  EXPECT_EQ(groups, (std::vector<std::string>{"Stacking", "Collision", "Contacts", "Joints"}));
+  EXPECT_EQ(groups, (std::vector<std::string>{"Stacking", "Collision", "Contacts", "Joints",
+                                              "Articulations"}));
   std::set<std::string> names;
   for (const Sample& s : builtins) {
     EXPECT_TRUE(s.file.empty());
@@ -347,4 +351,50 @@ TEST(Samples, ScenesFolderIsFoundNearTheExecutableOrTheSources) {
 }
 
 }  // namespace
+}  // namespace inertia::viewer
+
+namespace inertia::viewer {
+namespace {
+
+namespace art = inertia::articulation;
+
+const Sample& articulationSample(const std::string& name) {
+  static const std::vector<Sample> builtins = builtinSamples();
+  for (const Sample& s : builtins)
+    if (s.group == "Articulations" && s.name == name) return s;
+  throw std::runtime_error("no articulation sample " + name);
+}
+
+}  // namespace
+
+// The arm's controller (inverse kinematics by damped least squares into its PD drives, gravity
+// fed forward) keeps its hand on the target, which circles at 0.16 m/s: once it has caught up
+// (after 2 s), within 5 mm. The drives follow the targets' velocities too, so what remains is
+// the damped least squares' step (a 0.1 m damping against errors of millimetres) and the
+// drives' lag behind a target that moves within the step: at worst v h = 2.7 mm (measured
+// 0.7 mm).
+TEST(Samples, ArmFollowsItsTarget) {
+  const Sample& sample = articulationSample("Arm following a target");
+  ASSERT_TRUE(sample.control);
+  const std::unique_ptr<World> world = io::instantiate(sample.build());
+  const ArticulationId arm = world->articulations().at(0);
+  const art::Model<Real>& model = world->articulation(arm).model();
+  const int hand = model.linkCount() - 1;
+  BodyId target;
+  for (BodyId b : world->rigidBodies().bodies())
+    if (world->rigidBodies().name(b) == "target") target = b;
+  ASSERT_FALSE(target.isNull());
+  Real worst = 0;
+  for (int i = 0; i < 300; ++i) {
+    sample.control(*world);
+    world->step(world->settings().dt);
+    // The hand's sphere is the last link body's last shape; its centre is the tool point.
+    const Vec3 tool = world->transform(world->linkBody(arm, hand)).apply(Vec3(0, 0, Real(0.107)));
+    const Real miss = (tool - world->transform(target).p).norm();
+    if (i >= 120) worst = std::max(worst, miss);
+  }
+  std::printf("arm: hand within %.4f m of its target after 2 s\n", double(worst));
+  EXPECT_LT(worst, Real(0.005));
+}
+
 }  // namespace inertia::viewer

@@ -42,6 +42,9 @@ class LinkResponse final : public MultibodyResponse {
   void beginStep() override;
   int addPoint(int member, const Vec3& point) override;
   Mat3 pointResponse(int handle) const override { return points_[std::size_t(handle)].W; }
+  Mat3 crossResponse(int a, int b) const override {
+    return points_[std::size_t(a)].J * points_[std::size_t(b)].MinvJt;
+  }
   Vec3 pointVelocity(int handle) const override;
   Vec3 pointDisplacement(int handle) const override;
   void applyImpulse(int handle, const Vec3& impulse) override;

@@ -1,6 +1,7 @@
 // Bodies whose motion another system computes: the links of an articulation. They are bodies of
 // the RigidBodySystem for the broad and narrow phase, but the rigid solver neither integrates
-// nor pushes them directly: their contact rows, and the rows of the ball joints on them (loops),
+// nor pushes them directly: their contact rows (with bodies, and between two members when the
+// group collides with itself), and the rows of the ball joints on them (loops),
 // are solved in the rigid bodies' substeps, in sequence after the coloured constraints, through
 // the owner's response (DESIGN.md section 1:
 // dynamics defines the rows and stages, a higher layer implements them for its links).
@@ -28,6 +29,10 @@ class MultibodyResponse {
   virtual int addPoint(int member, const Vec3& point) = 0;
   /// W = J M^-1 J^T: the point's velocity change per unit impulse on it (s/kg, world axes).
   virtual Mat3 pointResponse(int handle) const = 0;
+  /// J_a M^-1 J_b^T: point `a`'s velocity change per unit impulse on point `b` (s/kg, world
+  /// axes), for rows between two members (a tree's self-contacts and loops);
+  /// crossResponse(h, h) is pointResponse(h), and crossResponse(b, a) its transpose.
+  virtual Mat3 crossResponse(int a, int b) const = 0;
   /// The point's velocity (m/s, world).
   virtual Vec3 pointVelocity(int handle) const = 0;
   /// The point's displacement since the step's start (m, world).

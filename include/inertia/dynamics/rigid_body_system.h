@@ -211,9 +211,13 @@ class RigidBodySystem {
   // narrow phase as bodies; the solver neither integrates nor pushes them, but solves their
   // contacts through `response`, and the owner moves them after each step.
   /// Makes the dynamic bodies `members` (in member order) a group answered by `response`, which
-  /// must outlive the group. The members do not collide with each other and never sleep.
-  /// Returns the group. InvalidArgument for an invalid, non-dynamic, jointed or grouped member.
-  int addMultibody(MultibodyResponse* response, std::span<const BodyId> members);
+  /// must outlive the group. The members never sleep. With `selfCollisionParents` empty they do
+  /// not collide with each other; else it holds each member's parent (a member index, -1 at a
+  /// root) and members collide with each other, except each with its parent (self-collision).
+  /// Returns the group. InvalidArgument for an invalid, non-dynamic, jointed or grouped member,
+  /// or parents of the wrong count or out of range.
+  int addMultibody(MultibodyResponse* response, std::span<const BodyId> members,
+                   std::span<const int> selfCollisionParents = {});
   /// Dissolves a group: its members become ordinary bodies again.
   void removeMultibody(int group);
   /// Points group `group` at `response`: a copy of its response, after this system was assigned

@@ -55,6 +55,9 @@ struct WorldArticulationSettings {
   articulation::ArticulationSettings<Real> solver{};
   articulation::VectorX<Real> q;   ///< Empty: the neutral configuration.
   articulation::VectorX<Real> qd;  ///< Empty: at rest.
+  /// Whether its links collide with each other: each with every link but its parent and
+  /// children (whose shapes meet at their joint by construction). Off by default.
+  bool selfCollision = false;
 };
 
 /// Per-phase wall-clock seconds accumulated over all steps (broad phase, narrow phase, ...).
@@ -162,8 +165,8 @@ class World {
 
   /// Adds an articulation (InvalidArgument for a bad model, state or shape). Each link becomes a
   /// dynamic body of rigidBodies() named NAME/LINK that carries the link's shapes: it collides
-  /// with bodies and with other articulations' links (not with its own tree's), and its
-  /// contacts are solved in the bodies' substeps through the articulation's mass matrix
+  /// with bodies and with other articulations' links (and its own tree's with selfCollision),
+  /// and its contacts are solved in the bodies' substeps through the articulation's mass matrix
   /// (link_response.h), with its limits, drives and friction after each substep's contacts.
   /// The world steps the articulation in those substeps by semi-implicit Euler, in the world's
   /// gravity; the link bodies follow it after each step.
