@@ -1,6 +1,7 @@
 // Featherstone's algorithms (ABA forward dynamics, RNEA inverse dynamics, CRBA mass matrix) in
 // double, against DART 6.12 (Debian's libdart-dev) in the same run, on a 7-DOF arm (the Panda's
-// kinematics), a 100-link revolute chain and a 30-link random tree with every joint type.
+// kinematics), a 100-link revolute chain, a 30-DOF humanoid (floating base) and a 30-link random
+// tree with every joint type.
 // Each figure is the best of 5 rounds of about 0.1 s of calls, in microseconds per call, at one
 // of two random states per model, alternated. Both sides recompute their kinematics in every call:
 // ours from (q, qd, tau) with a reused Workspace; DART after setPositions/setVelocities invalidate
@@ -111,6 +112,7 @@ int main() {
       DART_VERSION);
   run("7-DOF arm (Panda)", sevenDofArm<double>());
   run("100-link chain", pendulumChain<double>(100, 0.1, 1.0));
+  run("30-DOF humanoid", humanoid<double>());
   run("30-link random tree", randomTree<double>({.links = 30, .armature = false, .seed = 3}));
   return 0;
 }

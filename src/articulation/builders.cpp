@@ -140,11 +140,61 @@ Model<S> sevenDofArm() {
   return model;
 }
 
+template <class S>
+Model<S> humanoid() {
+  Model<S> model;
+  // A link on one revolute joint about `axis` at `origin` (in the parent's frame), its mass that
+  // of a box of half extents `half` centred at `com`.
+  const auto add = [&](const std::string& name, int parent, const Vector3<S>& origin,
+                       const Vector3<S>& axis, S mass, const Vector3<S>& com,
+                       const Vector3<S>& half, JointType type = JointType::Revolute) {
+    LinkSettings<S> s;
+    s.name = name;
+    s.parent = parent;
+    s.joint.type = type;
+    s.joint.originPosition = origin;
+    s.joint.axis = axis;
+    const Vector3<S> h2 = half.cwiseProduct(half);
+    s.inertia = {mass, com,
+                 (mass / 3 * Vector3<S>(h2.y() + h2.z(), h2.x() + h2.z(), h2.x() + h2.y()))
+                     .asDiagonal()};
+    model.addLink(s);
+    return model.linkCount() - 1;
+  };
+  using V = Vector3<S>;
+  const V x = V::UnitX(), y = V::UnitY(), z = V::UnitZ(), o = V::Zero();
+  const V small = V::Constant(S(0.03));  // the links between the axes of a multi-axis joint
+  const int pelvis = add("pelvis", -1, o, z, 10, o, V(S(0.15), S(0.1), S(0.1)), JointType::Floating);
+  const int abdomen = add("abdomen", pelvis, V(0, S(0.1), 0), z, S(0.5), o, small);
+  const int chest = add("chest", abdomen, o, x, 12, V(0, S(0.2), 0), V(S(0.15), S(0.2), S(0.1)));
+  const int neck = add("neck", chest, V(0, S(0.45), 0), x, S(0.3), o, small);
+  add("head", neck, o, y, 4, V(0, S(0.1), 0), V::Constant(S(0.1)));
+  for (const S side : {S(1), S(-1)}) {
+    const std::string n = side > 0 ? "left_" : "right_";
+    const int sz = add(n + "shoulder_z", chest, V(side * S(0.2), S(0.4), 0), z, S(0.2), o, small);
+    const int sx = add(n + "shoulder_x", sz, o, x, S(0.2), o, small);
+    const int upper =
+        add(n + "upper_arm", sx, o, y, 2, V(0, S(-0.15), 0), V(S(0.04), S(0.15), S(0.04)));
+    add(n + "forearm", upper, V(0, S(-0.3), 0), x, S(1.2), V(0, S(-0.13), 0),
+        V(S(0.035), S(0.13), S(0.035)));
+    const int hz = add(n + "hip_z", pelvis, V(side * S(0.1), S(-0.1), 0), z, S(0.3), o, small);
+    const int hx = add(n + "hip_x", hz, o, x, S(0.3), o, small);
+    const int thigh =
+        add(n + "thigh", hx, o, y, 6, V(0, S(-0.22), 0), V(S(0.07), S(0.22), S(0.07)));
+    const int shin = add(n + "shin", thigh, V(0, S(-0.45), 0), x, S(3.5), V(0, S(-0.2), 0),
+                         V(S(0.05), S(0.2), S(0.05)));
+    const int ankle = add(n + "ankle_x", shin, V(0, S(-0.42), 0), x, S(0.2), o, small);
+    add(n + "foot", ankle, o, z, 1, V(0, S(-0.04), S(0.05)), V(S(0.05), S(0.03), S(0.1)));
+  }
+  return model;
+}
+
 #define INERTIA_INSTANTIATE(S)                                                            \
   template Model<S> randomTree<S>(const RandomTreeOptions&);                              \
   template void randomState<S>(const Model<S>&, std::uint32_t, VectorX<S>&, VectorX<S>&); \
   template Model<S> pendulumChain<S>(int, S, S);                                          \
-  template Model<S> sevenDofArm<S>();
+  template Model<S> sevenDofArm<S>();                                                     \
+  template Model<S> humanoid<S>();
 INERTIA_INSTANTIATE(float)
 INERTIA_INSTANTIATE(double)
 #undef INERTIA_INSTANTIATE

@@ -1,5 +1,5 @@
 // Articulations shared by the tests, the benchmarks and (later) the samples: seeded random trees
-// with every joint type, pendulum chains and a 7-DOF arm.
+// with every joint type, pendulum chains, a 7-DOF arm and a humanoid.
 #pragma once
 
 #include <cstdint>
@@ -36,5 +36,12 @@ Model<S> pendulumChain(int links, S length, S mass);
 /// of cylinders), fixed base, revolute joints about z with limits.
 template <class S>
 Model<S> sevenDofArm();
+
+/// A 30-DOF humanoid (a benchmark's model, y up, about 1.7 m and 57 kg): a floating pelvis;
+/// two-axis waist, neck and ankles, three-axis shoulders and hips, one-axis elbows and knees,
+/// each axis a revolute joint (multi-axis joints as chains of small links at one origin); box
+/// inertias.
+template <class S>
+Model<S> humanoid();
 
 }  // namespace inertia::articulation
