@@ -52,29 +52,52 @@ void LinkResponse::beginStep() {
   articulation_->factorMassMatrix(articulation_->q());
 }
 
-int LinkResponse::addPoint(int member, const Vec3& point) {
+int LinkResponse::addPoint(int member, const Vec3& point) { return add(member, point, 3); }
+
+int LinkResponse::addFrame(int member, const Vec3& point) { return add(member, point, 6); }
+
+// The point's Jacobian (its velocity's rows, then the link's angular velocity's for a frame),
+// as pointJacobian (kinematics.h), from this step's link transforms.
+int LinkResponse::add(int member, const Vec3& point, int rows) {
   const Model<Real>& m = articulation_->model();
   if (std::size_t(pointCount_) == points_.size()) points_.emplace_back();
   Point& pt = points_[std::size_t(pointCount_)];
   pt.link = member;
   pt.start = point;
   pt.local = linkPose(member).applyInverse(point);
-  // The point's Jacobian, as pointJacobian (kinematics.h), from this step's link transforms.
   const Vec3 p = base_.applyInverse(point);
-  pt.J.setZero(3, m.nv());
+  pt.J.setZero(rows, m.nv());
   for (int j = member; j >= 0; j = m.link(j).parent) {
     for (int k = m.link(j).vIndex; k < m.link(j).vIndex + m.link(j).nv; ++k) {
       const Vector6<Real> s = X0_[std::size_t(j)].applyInverse(m.motionSubspace().col(k));
-      pt.J.col(k) = baseRotation_ * (s.tail<3>() + s.head<3>().cross(p));
+      pt.J.block<3, 1>(0, k) = baseRotation_ * (s.tail<3>() + s.head<3>().cross(p));
+      if (rows == 6) pt.J.block<3, 1>(3, k) = baseRotation_ * s.head<3>();
     }
   }
   pt.MinvJt = articulation_->massMatrixFactor().solve(pt.J.transpose());
-  pt.W = pt.J * pt.MinvJt;
+  pt.W = pt.J.topRows<3>() * pt.MinvJt.leftCols<3>();
   return pointCount_++;
 }
 
 Vec3 LinkResponse::pointVelocity(int handle) const {
+  return points_[std::size_t(handle)].J.topRows<3>() * articulation_->qd();
+}
+
+MultibodyResponse::FrameMatrix LinkResponse::frameResponse(int a, int b) const {
+  return points_[std::size_t(a)].J * points_[std::size_t(b)].MinvJt;
+}
+
+MultibodyResponse::FrameVector LinkResponse::frameVelocity(int handle) const {
   return points_[std::size_t(handle)].J * articulation_->qd();
+}
+
+void LinkResponse::applyFrameImpulse(int handle, const FrameVector& impulse) {
+  delta_.noalias() = points_[std::size_t(handle)].MinvJt * impulse;
+  articulation_->addVelocity(delta_);
+}
+
+Quat LinkResponse::frameRotation(int handle) const {
+  return linkPose(points_[std::size_t(handle)].link).q;
 }
 
 Vec3 LinkResponse::pointDisplacement(int handle) const {
@@ -83,7 +106,7 @@ Vec3 LinkResponse::pointDisplacement(int handle) const {
 }
 
 void LinkResponse::applyImpulse(int handle, const Vec3& impulse) {
-  delta_.noalias() = points_[std::size_t(handle)].MinvJt * impulse;
+  delta_.noalias() = points_[std::size_t(handle)].MinvJt.leftCols<3>() * impulse;
   articulation_->addVelocity(delta_);
 }
 

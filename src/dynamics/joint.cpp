@@ -133,13 +133,12 @@ std::string_view jointTypeName(JointType type) {
 namespace {
 
 JointId addJoint(Data& D, JointRecord&& record, const char* name) {
-  // A link's joints are solved as point rows through its articulation's response: three
-  // linear rows, what a ball joint without limits or friction is.
+  // A link's joints are solved by their locked rows through its articulation's response
+  // (multibody_contacts.h): any type, without limits, motors, springs or friction.
   if (drivenJoint(D, record))
-    check(record.type == JointType::Ball && lockedOnly(record), name,
-          D.bodies[record.bodyB].group >= 0 ? "bodyB" : "bodyA",
-          "is an articulation's link: only a ball joint without cone or twist limits or friction "
-          "may join one");
+    check(lockedOnly(record), name, D.bodies[record.bodyB].group >= 0 ? "bodyB" : "bodyA",
+          "is an articulation's link: a joint on one takes no limits, motor, spring or "
+          "friction");
   // The lowest free slot, searched from the lowest that may be free (as for bodies).
   std::uint32_t slot = D.firstFreeJoint;
   while (slot < D.joints.size() && D.joints[slot].alive) ++slot;

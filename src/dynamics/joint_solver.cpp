@@ -16,13 +16,9 @@ namespace {
 constexpr Real kJointHertzScale = 2;
 constexpr Real kJointDampingRatio = 2;
 
-// A joint's geometry in the current substep, from its bodies' motion since the step's start.
-struct Frame {
-  Vec3 rA, rB;  // anchors minus centres of mass (m, world)
-  Vec3 d;       // B's anchor minus A's (m)
-  Quat qA, qB;  // the joint's frames on A and B (world rotations)
-};
+using Frame = JointFrame;
 
+// A joint's geometry in the current substep, from its bodies' motion since the step's start.
 Frame currentFrame(const JointConstraint& c, const SolverBody& a, const SolverBody& b) {
   Frame f;
   f.rA = a.dR * c.rA;
@@ -118,9 +114,10 @@ SwingTwist swingTwist(const Quat& qA, const Quat& qB) {
   return st;
 }
 
-// The joint's locked rows in the current frame, into c.lock, and their position errors.
-void lockRows(JointConstraint& c, const JointRecord& j, const Frame& f, RowBlock::Vector& C) {
-  RowBlock& lock = c.lock;
+}  // namespace
+
+void lockedRows(const JointRecord& j, const JointFrame& f, const Vec3& fallbackAxis, RowBlock& lock,
+                RowBlock::Vector& C) {
   lock.clear();
   C.resize(RowBlock::kMax);
   const auto row = [&](const JointRow& r, Real error) {
@@ -187,13 +184,15 @@ void lockRows(JointConstraint& c, const JointRecord& j, const Frame& f, RowBlock
     case JointType::Distance:
       if (j.minLength == j.maxLength && !j.spring) {
         const Real length = f.d.norm();
-        row(linearRow(length > Real(1e-6) ? Vec3(f.d / length) : c.fallbackAxis, f.rA, f.rB),
+        row(linearRow(length > Real(1e-6) ? Vec3(f.d / length) : fallbackAxis, f.rA, f.rB),
             length - j.length);
       }
       break;
   }
   C.conservativeResize(lock.count);
 }
+
+namespace {
 
 // The rows of the free coordinates in the current frame, prepared, and the coordinates: per
 // degree of freedom (x, y, z, rx, ry, rz) the value its rows drive, a ball joint's swing apart.
@@ -274,7 +273,7 @@ void refresh(JointConstraint& c, const JointRecord& j, const SolverBody& a, cons
   const Frame f = currentFrame(c, a, b);
   if (!c.lockedOnly) freeRows(c, j, f, *c.parts, a, b);
   RowBlock::Vector C;
-  lockRows(c, j, f, C);
+  lockedRows(j, f, c.fallbackAxis, c.lock, C);
   c.lock.prepare(a, b, C);
 }
 

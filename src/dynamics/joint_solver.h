@@ -36,6 +36,19 @@ struct JointPass {
 /// The pass coefficients of the soft step, pgs, and the relaxation.
 JointPass jointPass(const DynamicsSettings& s, Real h, bool useBias);
 
+/// A joint's geometry in the current substep.
+struct JointFrame {
+  Vec3 rA, rB;  ///< Anchors minus the sides' reference points, the centres of mass (m, world).
+  Vec3 d;       ///< B's anchor minus A's (m).
+  Quat qA, qB;  ///< The joint's frames on A and B (world rotations).
+};
+
+/// The joint's locked rows in frame `f` into `lock` (a ball joint's as a point block, rows
+/// unset) and their position errors `C`; `fallbackAxis` is a fixed-length distance joint's
+/// direction where its anchors meet.
+void lockedRows(const JointRecord& j, const JointFrame& f, const Vec3& fallbackAxis, RowBlock& lock,
+                RowBlock::Vector& C);
+
 /// Appends this step's joint constraints and their graph edges, making solver bodies with
 /// `slot(bodyIndex)` (after the contacts', so that worlds without joints are unchanged).
 template <class Slot>

@@ -130,48 +130,144 @@ void preparePoints(Data& D, const DynamicsSettings& s, MultibodyContact& c) {
                         : combine(s.combine.friction, ma.sliding(), mb.sliding());
 }
 
-// A side's anchor from its centre of mass now: a rigid side's turns with its body within the
-// step (the coloured joints' do too); a group's point is its own.
+// A side's anchor from its reference point now: a rigid side's turns with its body within the
+// step (the coloured joints' do too); a driven side's reference is the anchor itself.
 Vec3 arm(const Data& D, const MultibodySide& s, const Vec3& r) {
   if (s.group >= 0 || s.body < 0) return r;
   return D.solverBodies[std::size_t(s.body)].dR * r;
 }
 
-// The rows' effective mass W^-1 at the anchors now (pairResponse): made again after every position
-// update (JointPass::stamp), as the coloured joints' are, since a hung body's turn within the
-// step moves its anchor's response (a small sphere on a long arm: its W spans 1 : 91).
+using Vector6 = MultibodyResponse::FrameVector;
+using Matrix6 = MultibodyResponse::FrameMatrix;
+using SideRows = Eigen::Matrix<Real, Eigen::Dynamic, 6, 0, RowBlock::kMax, 6>;
+using BlockMatrix = Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+using BlockVector = RowBlock::Vector;
+
+// A side's [v; w]: a rigid side's centre of mass, a driven side's frame (at its anchor).
+Vector6 sideVelocity(Data& D, const MultibodySide& s, int handle) {
+  if (s.group >= 0) return response(D, s).frameVelocity(handle);
+  Vector6 v = Vector6::Zero();
+  if (s.body < 0) return v;
+  const SolverBody& b = D.solverBodies[std::size_t(s.body)];
+  v << b.v, b.w;
+  return v;
+}
+
+// An impulse [P; L] at a side's reference point.
+void applySideImpulse(Data& D, const MultibodySide& s, int handle, const Vector6& impulse) {
+  if (s.group >= 0) return response(D, s).applyFrameImpulse(handle, impulse);
+  if (s.body < 0) return;
+  SolverBody& b = D.solverBodies[std::size_t(s.body)];
+  b.v += b.invMass * impulse.head<3>();
+  b.w += b.invInertia * impulse.tail<3>();
+}
+
+// A side's [v; w] change per unit [P; L] at its reference point.
+Matrix6 sideResponse(Data& D, const MultibodySide& s, int handle) {
+  if (s.group >= 0) return response(D, s).frameResponse(handle, handle);
+  Matrix6 W = Matrix6::Zero();
+  if (s.body < 0) return W;
+  const SolverBody& b = D.solverBodies[std::size_t(s.body)];
+  W.topLeftCorner<3, 3>() = b.invMass * Mat3::Identity();
+  W.bottomRightCorner<3, 3>() = b.invInertia;
+  return W;
+}
+
+// The joint frame's rotation now: a driven side's member turns it, a rigid side's body by its
+// rotation since the step's start; the world's stays.
+Quat sideRotation(Data& D, const MultibodySide& s, int handle, const Quat& frame) {
+  if (s.group >= 0) return response(D, s).frameRotation(handle) * frame;
+  if (s.body < 0) return frame;
+  return D.solverBodies[std::size_t(s.body)].dq * frame;
+}
+
+// The rows' Jacobians on each side's [v; w]: row i is -[l_i; ja_i] on A and [l_i; jb_i] on B.
+void sideRows(const RowBlock& rows, SideRows& A, SideRows& B) {
+  A.resize(rows.count, 6);
+  B.resize(rows.count, 6);
+  for (int i = 0; i < rows.count; ++i) {
+    const JointRow& r = rows.rows[std::size_t(i)];
+    A.row(i) << -r.linear.transpose(), -r.ja.transpose();
+    B.row(i) << r.linear.transpose(), r.jb.transpose();
+  }
+}
+
+// The joint's locked rows in its frame now and their effective mass K^+, K = J W J^T over both
+// sides (with the coupling where both are frames of one group): made again after every
+// position update (JointPass::stamp), as the coloured joints' are, since a hung body's turn
+// within the step moves its anchor's response (a small sphere on a long arm: its W spans
+// 1 : 91). A ball joint's point block is written as its three rows along the world axes.
 //
-// W is singular wherever the anchors cannot move apart: out of the plane of a planar loop,
-// along the bars of a straight linkage. Its pseudo-inverse leaves those directions alone
-// (eigenvalues below 1e-6 of the largest: far below any real response, above float rounding).
-void updateJointMass(Data& D, MultibodyJoint& m) {
-  const Mat3 W =
-      pairResponse(D, m.a, m.handle[0], arm(D, m.a, m.rA), m.b, m.handle[1], arm(D, m.b, m.rB));
-  const Eigen::SelfAdjointEigenSolver<Mat3> eig(W);
-  const Vec3 lambda = eig.eigenvalues();
-  Vec3 inverse = Vec3::Zero();
-  for (int i = 0; i < 3; ++i)
-    if (lambda[i] > Real(1e-6) * lambda.maxCoeff()) inverse[i] = 1 / lambda[i];
+// K is singular wherever the rows cannot move apart: out of the plane of a planar loop, along
+// the bars of a straight linkage. Its pseudo-inverse leaves those directions alone (eigenvalues
+// below 1e-6 of the largest: far below any real response, above float rounding).
+void refreshJoint(Data& D, MultibodyJoint& m) {
+  const JointRecord& j = D.joints[m.joint];
+  JointFrame f;
+  f.rA = arm(D, m.a, m.rA);
+  f.rB = arm(D, m.b, m.rB);
+  f.d = m.separation + displacement(D, m.b, m.handle[1], m.rB) -
+        displacement(D, m.a, m.handle[0], m.rA);
+  f.qA = sideRotation(D, m.a, m.handle[0], m.frameA);
+  f.qB = sideRotation(D, m.b, m.handle[1], m.frameB);
+  BlockVector C;
+  lockedRows(j, f, m.fallbackAxis, m.rows, C);
+  if (m.rows.point) {
+    m.rows.clear();
+    for (int i = 0; i < 3; ++i) m.rows.add(linearRow(Vec3::Unit(i), f.rA, f.rB));
+  }
+  m.rows.error.head(m.rows.count) = C;
+  if (m.rows.count == 0) return;  // a six-DOF joint with every axis free
+  SideRows A, B;
+  sideRows(m.rows, A, B);
+  BlockMatrix K = A * sideResponse(D, m.a, m.handle[0]) * A.transpose() +
+                  B * sideResponse(D, m.b, m.handle[1]) * B.transpose();
+  if (m.a.group >= 0 && m.a.group == m.b.group) {
+    const BlockMatrix coupling =
+        A * response(D, m.a).frameResponse(m.handle[0], m.handle[1]) * B.transpose();
+    K += coupling + coupling.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<BlockMatrix> eig(K);
+  const BlockVector lambda = eig.eigenvalues();
+  BlockVector inverse = BlockVector::Zero(lambda.size());
+  for (int i = 0; i < lambda.size(); ++i)
+    if (lambda(i) > Real(1e-6) * lambda.maxCoeff()) inverse(i) = 1 / lambda(i);
   m.mass = eig.eigenvectors() * inverse.asDiagonal() * eig.eigenvectors().transpose();
   if (!m.mass.allFinite()) m.mass.setZero();
 }
 
-// A driven joint's anchors, effective mass and last step's impulse.
+// A driven joint's anchors, frames, reference points and last step's impulses.
 void prepareJointPoints(Data& D, MultibodyJoint& m) {
   const JointRecord& j = D.joints[m.joint];
-  const Vec3 pA = worldFrame(D, j.bodyA, j.frameA).p, pB = worldFrame(D, j.bodyB, j.frameB).p;
-  if (m.a.body >= 0) m.rA = pA - D.bodies[j.bodyA].com;
-  if (m.b.body >= 0) m.rB = pB - D.bodies[j.bodyB].com;
-  m.handle[0] = m.a.group >= 0 ? response(D, m.a).addPoint(D.bodies[j.bodyA].member, pA) : -1;
-  m.handle[1] = m.b.group >= 0 ? response(D, m.b).addPoint(D.bodies[j.bodyB].member, pB) : -1;
-  m.separation = pB - pA;
-  m.impulse = j.parts.lockImpulse.head<3>();
+  const Transform fA = worldFrame(D, j.bodyA, j.frameA), fB = worldFrame(D, j.bodyB, j.frameB);
+  const auto side = [&](const MultibodySide& s, std::uint32_t body, const Transform& local,
+                        const Transform& world, int& handle, Vec3& r, Quat& frame) {
+    handle = -1;
+    r = Vec3::Zero();
+    frame = world.q;
+    if (s.group >= 0) {
+      handle = response(D, s).addFrame(D.bodies[body].member, world.p);
+      frame = local.q;
+    } else if (s.body >= 0) {
+      r = world.p - D.bodies[body].com;
+    }
+  };
+  side(m.a, j.bodyA, j.frameA, fA, m.handle[0], m.rA, m.frameA);
+  side(m.b, j.bodyB, j.frameB, fB, m.handle[1], m.rB, m.frameB);
+  m.separation = fB.p - fA.p;
+  m.fallbackAxis = m.separation.norm() > Real(1e-6) ? Vec3(m.separation.normalized())
+                                                    : Vec3(fA.q * Vec3::UnitX());
+  m.rows.impulse = j.parts.lockImpulse;
+  refreshJoint(D, m);
+  m.stamp = -1;
 }
 
-// An impulse P on B at the joint's anchors, -P on A.
-void applyJointPair(Data& D, const MultibodyJoint& m, const Vec3& P) {
-  applyImpulse(D, m.a, m.handle[0], arm(D, m.a, m.rA), -P);
-  applyImpulse(D, m.b, m.handle[1], arm(D, m.b, m.rB), P);
+// Impulses `lambda` along the rows: -A^T lambda on A, B^T lambda on B (as [P; L]).
+void applyJointRows(Data& D, const MultibodyJoint& m, const BlockVector& lambda) {
+  SideRows A, B;
+  sideRows(m.rows, A, B);
+  applySideImpulse(D, m.a, m.handle[0], A.transpose() * lambda);
+  applySideImpulse(D, m.b, m.handle[1], B.transpose() * lambda);
 }
 
 // Whether a side cannot move: a static body, or a kinematic one.
@@ -193,24 +289,28 @@ void prepareMultibodyContacts(Data& D, const DynamicsSettings& s, const Softness
 }
 
 void warmStartMultibodyJoints(Data& D) {
-  for (const MultibodyJoint& m : D.multibodyJoints) applyJointPair(D, m, m.impulse);
+  for (const MultibodyJoint& m : D.multibodyJoints)
+    applyJointRows(D, m, m.rows.impulse.head(m.rows.count));
 }
 
 void solveMultibodyJoints(Data& D, const JointPass& pass) {
   const Softness& soft = pass.rigid;
   for (MultibodyJoint& m : D.multibodyJoints) {
     if (m.stamp != pass.stamp) {
-      updateJointMass(D, m);
+      refreshJoint(D, m);
       m.stamp = pass.stamp;
     }
-    const Vec3 error = m.separation + displacement(D, m.b, m.handle[1], m.rB) -
-                       displacement(D, m.a, m.handle[0], m.rA);
-    const Vec3 dv = velocity(D, m.b, m.handle[1], arm(D, m.b, m.rB)) -
-                    velocity(D, m.a, m.handle[0], arm(D, m.a, m.rA));
-    const Vec3 impulse =
-        -soft.massScale * (m.mass * (dv + soft.biasRate * error)) - soft.impulseScale * m.impulse;
-    m.impulse += impulse;
-    applyJointPair(D, m, impulse);
+    const int n = m.rows.count;
+    if (n == 0) continue;
+    SideRows A, B;
+    sideRows(m.rows, A, B);
+    BlockVector rhs = A * sideVelocity(D, m.a, m.handle[0]) + B * sideVelocity(D, m.b, m.handle[1]);
+    for (int i = 0; i < n; ++i) rhs(i) += jointBias(soft, m.rows.error(i));
+    const BlockVector delta =
+        -soft.massScale * (m.mass * rhs) - soft.impulseScale * m.rows.impulse.head(n);
+    m.rows.impulse.head(n) += delta;
+    applySideImpulse(D, m.a, m.handle[0], A.transpose() * delta);
+    applySideImpulse(D, m.b, m.handle[1], B.transpose() * delta);
   }
 }
 
@@ -218,10 +318,12 @@ void storeMultibodyJoints(Data& D, Real h) {
   for (const MultibodyJoint& m : D.multibodyJoints) {
     JointRecord& j = D.joints[m.joint];
     j.parts.lockImpulse.setZero();
-    j.parts.lockImpulse.head<3>() = m.impulse;
-    j.force = m.impulse / h;
-    j.torque = Vec3::Zero();
-    j.overloaded = j.force.norm() > j.breakForce;
+    j.parts.lockImpulse.head(m.rows.count) = m.rows.impulse.head(m.rows.count);
+    Vec3 linear = Vec3::Zero(), angular = Vec3::Zero();
+    m.rows.reaction(linear, angular);
+    j.force = linear / h;
+    j.torque = angular / h;
+    j.overloaded = j.force.norm() > j.breakForce || j.torque.norm() > j.breakTorque;
   }
 }
 

@@ -7,12 +7,14 @@
 // the reduced coordinates, so these rows run in sequence, in contact order, after each pass's
 // colours: the same at any thread count. Rolling and spinning friction are not applied to them.
 //
-// The joints with a driven body on a side (RigidBodyData::multibodyJoints: ball joints without
-// limits, which close loops through articulations) are three point rows each, solved the same
-// way before the contacts: the anchors' relative velocity W-solved to zero with the joints'
+// The joints with a driven body on a side (RigidBodyData::multibodyJoints: joints of any type
+// without limits, motors, springs or friction, which close loops through articulations) are
+// their locked rows (lockedRows, as the coloured joints'), solved as one block before the
+// contacts through each side's 6 x 6 response (a driven side's frame at its anchor, with the
+// coupling where both sides are in one tree): their velocity K-solved to zero with the joints'
 // softness (JointPass: soft in the soft step, Baumgarte's feedback for pgs, none in the
-// relaxation), warm started from last step's impulse, their force reported and checked
-// against the break thresholds as any joint's.
+// relaxation), warm started from last step's impulses, their force and torque reported and
+// checked against the break thresholds as any joint's.
 #pragma once
 
 #include "joint_solver.h"

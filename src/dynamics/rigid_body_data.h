@@ -226,19 +226,27 @@ struct MultibodyContact {
   Softness softness{};
 };
 
-// A ball joint with a driven body on a side: a loop closed through an articulation's links (a
-// four-bar linkage, a body hung from a robot's hand, two branches of one tree). Its three point
-// rows keep the anchors together, solved beside the driven contacts (multibody_contacts.h).
+// A joint with a driven body on a side: a loop closed through an articulation's links (a
+// four-bar linkage, a body hung from or welded to a robot's hand, two branches of one tree).
+// Its locked rows (the joint's own, lockedRows) keep the anchors and frames together, solved as
+// one block beside the driven contacts through each side's 6 x 6 response
+// (multibody_contacts.h). A driven side's reference point is its anchor; a rigid side's, its
+// centre of mass.
 struct MultibodyJoint {
   std::uint32_t joint = 0;
   MultibodySide a, b;
-  std::array<int, 2> handle{-1, -1};  // per side, the group's point (a driven side)
+  std::array<int, 2> handle{-1, -1};  // per side, the group's frame (a driven side)
   Vec3 rA = Vec3::Zero();             // anchors from the rigid sides' centres of mass (m)
   Vec3 rB = Vec3::Zero();
+  // The joint's frames: a rigid side's at the step's start (world), a driven side's in its
+  // member's frame.
+  Quat frameA = Quat::Identity();
+  Quat frameB = Quat::Identity();
   Vec3 separation = Vec3::Zero();  // anchor B - anchor A at the step's start (m)
-  Mat3 mass = Mat3::Zero();        // W^-1, the rows' effective mass (kg; pairResponse)
-  int stamp = -1;                  // the position update `mass` was made for (JointPass)
-  Vec3 impulse = Vec3::Zero();     // accumulated, on B (N s, world)
+  Vec3 fallbackAxis = Vec3::UnitX();
+  RowBlock rows;  // the locked rows now, their errors, and the accumulated impulses
+  Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6> mass;  // K^+ (refreshJoint)
+  int stamp = -1;  // the position update `rows` and `mass` were made for (JointPass)
 };
 
 struct RigidBodyData {

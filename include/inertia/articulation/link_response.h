@@ -43,11 +43,16 @@ class LinkResponse final : public MultibodyResponse {
   int addPoint(int member, const Vec3& point) override;
   Mat3 pointResponse(int handle) const override { return points_[std::size_t(handle)].W; }
   Mat3 crossResponse(int a, int b) const override {
-    return points_[std::size_t(a)].J * points_[std::size_t(b)].MinvJt;
+    return points_[std::size_t(a)].J.topRows<3>() * points_[std::size_t(b)].MinvJt.leftCols<3>();
   }
   Vec3 pointVelocity(int handle) const override;
   Vec3 pointDisplacement(int handle) const override;
   void applyImpulse(int handle, const Vec3& impulse) override;
+  int addFrame(int member, const Vec3& point) override;
+  FrameMatrix frameResponse(int a, int b) const override;
+  FrameVector frameVelocity(int handle) const override;
+  void applyFrameImpulse(int handle, const FrameVector& impulse) override;
+  Quat frameRotation(int handle) const override;
   void integrateVelocities(Real h) override { articulation_->integrateVelocity(h); }
   void solveRows() override { articulation_->sweepJointRows(); }
   void integratePositions(Real h) override;
@@ -55,16 +60,18 @@ class LinkResponse final : public MultibodyResponse {
  private:
   LinkResponse(const LinkResponse&) = default;  // answering for the same articulation
 
-  using Matrix3X = Eigen::Matrix<Real, 3, Eigen::Dynamic>;
-  using MatrixX3 = Eigen::Matrix<Real, Eigen::Dynamic, 3>;
+  using Matrix6X = Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic, 0, 6, Eigen::Dynamic>;
+  using MatrixX6 = Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic, 0, Eigen::Dynamic, 6>;
+  // A point (3 rows: its velocity) or a frame (6: [v; w]).
   struct Point {
     int link = 0;
     Vec3 local = Vec3::Zero();  // in the link's frame (m)
     Vec3 start = Vec3::Zero();  // world, at the step's start (m)
-    Matrix3X J;                 // point velocity = J qd (world)
-    MatrixX3 MinvJt;            // H^-1 J^T
-    Mat3 W = Mat3::Zero();
+    Matrix6X J;                 // [v; w] = J qd (world), v alone for a point
+    MatrixX6 MinvJt;            // H^-1 J^T
+    Mat3 W = Mat3::Zero();      // the point rows' J H^-1 J^T
   };
+  int add(int member, const Vec3& point, int rows);
 
   Articulation<Real>* articulation_;  // never null
   Transform base_;
