@@ -243,10 +243,15 @@ def test_drive_holds_the_static_equilibrium():
     assert float(art.q[0]) == pytest.approx(q, abs=1e-6)
 
 
+def bar():
+    """A 0.6 x 0.1 x 0.1 m box along a link's x from its joint, 500 kg/m^3."""
+    return inertia.LinkShape(inertia.Box((0.3, 0.05, 0.05)), inertia.Material(density=500),
+                             position=(0.3, 0, 0))
+
+
 def two_link_model():
     model = inertia.ArticulationModel()
-    shape = inertia.LinkShape(inertia.Box((0.3, 0.05, 0.05)), inertia.Material(density=500),
-                              position=(0.3, 0, 0))
+    shape = bar()
     model.add_link("upper", joint="revolute", axis=(0, 0, 1), shapes=[shape])
     model.add_link("fore", parent="upper", joint="spherical", origin_position=(0.6, 0, 0),
                    shapes=[shape])
@@ -302,8 +307,7 @@ def test_self_collision_makes_contacts_between_a_trees_own_links():
     # apart), each bar touches its neighbours at their hinges. Only with self_collision is
     # there a contact, and only between the first and the third.
     model = inertia.ArticulationModel()
-    shape = inertia.LinkShape(inertia.Box((0.3, 0.05, 0.05)), inertia.Material(density=500),
-                              position=(0.3, 0, 0))
+    shape = bar()
     model.add_link("a", joint="revolute", axis=(0, 0, 1), shapes=[shape])
     model.add_link("b", parent="a", joint="revolute", axis=(0, 0, 1),
                    origin_position=(0.6, 0, 0), shapes=[shape])
