@@ -360,6 +360,20 @@ void wakeJoint(Data& D, const JointRecord& j) {
 }  // namespace
 
 namespace {
+// A link's joint keeps to its locked rows (addJoint): `change` is undone and refused where it
+// would give one a limit, motor, spring or friction.
+template <class F>
+void changeJoint(const Data& D, JointRecord& j, const char* what, F change) {
+  if (!drivenJoint(D, j)) return change();
+  const JointRecord before = j;
+  change();
+  if (lockedOnly(j)) return;
+  j = before;
+  require(false, std::string(what) +
+                     ": the joint joins an articulation's link, whose joints take no limits, "
+                     "motor, spring or friction");
+}
+
 // The degree of freedom a hinge's or slider's motor, limits and spring act on.
 JointAxis& primaryAxis(JointRecord& j, AxisRows*& rows, const char* what) {
   require(j.type == JointType::Hinge || j.type == JointType::Slider,
@@ -375,7 +389,7 @@ void RigidBodySystem::setJointMotor(JointId id, const std::optional<JointMotor>&
   AxisRows* rows = nullptr;
   JointAxis& axis = primaryAxis(j, rows, "setJointMotor");
   checkMotor(motor, "setJointMotor");
-  axis.motor = motor;
+  changeJoint(*d_, j, "setJointMotor", [&] { axis.motor = motor; });
   rows->motor = 0;
   wakeJoint(*d_, j);
 }
@@ -387,7 +401,7 @@ void RigidBodySystem::setJointLimits(JointId id, const std::optional<JointLimits
   checkLimits(
       limits, "setJointLimits",
       j.type == JointType::Hinge ? Real(std::numbers::pi) : std::numeric_limits<Real>::infinity());
-  axis.limits = limits;
+  changeJoint(*d_, j, "setJointLimits", [&] { axis.limits = limits; });
   rows->lower = rows->upper = 0;
   wakeJoint(*d_, j);
 }
@@ -396,11 +410,12 @@ void RigidBodySystem::setJointSpring(JointId id, const std::optional<JointSpring
   JointRecord& j = d_->joint(id);
   checkSpring(spring, "setJointSpring");
   if (j.type == JointType::Weld || j.type == JointType::Distance) {
-    j.spring = spring;
+    changeJoint(*d_, j, "setJointSpring", [&] { j.spring = spring; });
     j.parts.axes[0].spring = 0;
   } else {
     AxisRows* rows = nullptr;
-    primaryAxis(j, rows, "setJointSpring").spring = spring;
+    JointAxis& axis = primaryAxis(j, rows, "setJointSpring");
+    changeJoint(*d_, j, "setJointSpring", [&] { axis.spring = spring; });
     rows->spring = 0;
   }
   wakeJoint(*d_, j);
@@ -415,7 +430,7 @@ void RigidBodySystem::setJointAxis(JointId id, int axis, const JointAxis& settin
              axis < 3 ? std::numeric_limits<Real>::infinity()
                       : Real(axis == 4 ? std::numbers::pi / 2 : std::numbers::pi),
              settings.motor, settings.spring, settings.friction);
-  j.axes[std::size_t(axis)] = settings;
+  changeJoint(*d_, j, "setJointAxis", [&] { j.axes[std::size_t(axis)] = settings; });
   j.parts.axes[std::size_t(axis)] = {};
   j.parts.lockImpulse.setZero();  // its rows change
   wakeJoint(*d_, j);

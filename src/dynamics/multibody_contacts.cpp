@@ -227,12 +227,23 @@ void refreshJoint(Data& D, MultibodyJoint& m) {
         A * response(D, m.a).frameResponse(m.handle[0], m.handle[1]) * B.transpose();
     K += coupling + coupling.transpose();
   }
-  const Eigen::SelfAdjointEigenSolver<BlockMatrix> eig(K);
+  // Scaled by its diagonal first (as RowBlock::invert): linear rows (1/kg) and angular ones
+  // (1/(kg m^2)) differ by the square of a body's size, which would put a small body's linear
+  // rows under the cut. A row with no response at all (an angular row across a planar loop's
+  // hinges: rounding, 1e-14 of the largest) stays out: scaled up, its noise would count.
+  const BlockVector diagonal = K.diagonal();
+  BlockVector scale = BlockVector::Zero(diagonal.size());
+  for (int i = 0; i < diagonal.size(); ++i)
+    if (diagonal(i) > Real(1e-12) * diagonal.maxCoeff()) scale(i) = 1 / std::sqrt(diagonal(i));
+  const BlockMatrix scaled = scale.asDiagonal() * K * scale.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<BlockMatrix> eig(scaled);
   const BlockVector lambda = eig.eigenvalues();
   BlockVector inverse = BlockVector::Zero(lambda.size());
   for (int i = 0; i < lambda.size(); ++i)
     if (lambda(i) > Real(1e-6) * lambda.maxCoeff()) inverse(i) = 1 / lambda(i);
-  m.mass = eig.eigenvectors() * inverse.asDiagonal() * eig.eigenvectors().transpose();
+  m.mass = scale.asDiagonal() *
+           (eig.eigenvectors() * inverse.asDiagonal() * eig.eigenvectors().transpose()) *
+           scale.asDiagonal();
   if (!m.mass.allFinite()) m.mass.setZero();
 }
 
@@ -258,8 +269,7 @@ void prepareJointPoints(Data& D, MultibodyJoint& m) {
   m.fallbackAxis = m.separation.norm() > Real(1e-6) ? Vec3(m.separation.normalized())
                                                     : Vec3(fA.q * Vec3::UnitX());
   m.rows.impulse = j.parts.lockImpulse;
-  refreshJoint(D, m);
-  m.stamp = -1;
+  m.stamp = -1;  // rows made by the first warm start
 }
 
 // Impulses `lambda` along the rows: -A^T lambda on A, B^T lambda on B (as [P; L]).
@@ -288,9 +298,14 @@ void prepareMultibodyContacts(Data& D, const DynamicsSettings& s, const Softness
   for (MultibodyJoint& m : D.multibodyJoints) prepareJointPoints(D, m);
 }
 
-void warmStartMultibodyJoints(Data& D) {
-  for (const MultibodyJoint& m : D.multibodyJoints)
+void warmStartMultibodyJoints(Data& D, int stamp) {
+  for (MultibodyJoint& m : D.multibodyJoints) {
+    if (m.stamp != stamp) {
+      refreshJoint(D, m);
+      m.stamp = stamp;
+    }
     applyJointRows(D, m, m.rows.impulse.head(m.rows.count));
+  }
 }
 
 void solveMultibodyJoints(Data& D, const JointPass& pass) {

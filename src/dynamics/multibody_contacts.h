@@ -32,7 +32,9 @@ void integrateMultibodyVelocities(RigidBodyData& D, Real h, StepWorkers& workers
 void integrateMultibodyPositions(RigidBodyData& D, Real h, StepWorkers& workers);
 /// Applies the accumulated impulses again (a substep's warm start).
 void warmStartMultibodyContacts(RigidBodyData& D);
-void warmStartMultibodyJoints(RigidBodyData& D);
+/// The joints' rows made for position update `stamp` (JointPass::stamp) when they were not
+/// yet, then their accumulated impulses applied again.
+void warmStartMultibodyJoints(RigidBodyData& D, int stamp);
 /// One pass over the driven joints' rows.
 void solveMultibodyJoints(RigidBodyData& D, const JointPass& pass);
 /// Their impulses into the joints (for the next step's warm start), their forces, and whether

@@ -235,7 +235,7 @@ void warmStart(Data& D, int stamp, Real h, Real flight, StepWorkers& workers) {
       [&](std::uint32_t first, std::size_t count) {
         D.bundles.warmStart(D.solverBodies.data(), first, count);
       });
-  warmStartMultibodyJoints(D);
+  warmStartMultibodyJoints(D, stamp);
   warmStartMultibodyContacts(D);
 }
 
@@ -317,7 +317,7 @@ void solveIslandsLcp(Data& D, const BiasMode& mode, const JointPass& jointPass, 
   }
   // The joints and contacts on driven bodies and the groups' own rows are not in the LCPs: pgs
   // passes after them.
-  warmStartMultibodyJoints(D);
+  warmStartMultibodyJoints(D, jointPass.stamp);
   warmStartMultibodyContacts(D);
   for (int it = 0; it < iterations; ++it) {
     solveMultibodyJoints(D, jointPass);
