@@ -362,6 +362,13 @@ void wakeJoint(Data& D, const JointRecord& j) {
 namespace {
 // A link's joint keeps to its locked rows (addJoint): `change` is undone and refused where it
 // would give one a limit, motor, spring or friction.
+// Out of line: a message built by concatenation (GCC 12's false -Warray-bounds when inlined).
+[[gnu::noinline]] void refuseLinkJointChange(const char* what) {
+  require(false, std::string(what) +
+                     ": the joint joins an articulation's link, whose joints take no limits, "
+                     "motor, spring or friction");
+}
+
 template <class F>
 void changeJoint(const Data& D, JointRecord& j, const char* what, F change) {
   if (!drivenJoint(D, j)) return change();
@@ -369,9 +376,7 @@ void changeJoint(const Data& D, JointRecord& j, const char* what, F change) {
   change();
   if (lockedOnly(j)) return;
   j = before;
-  require(false, std::string(what) +
-                     ": the joint joins an articulation's link, whose joints take no limits, "
-                     "motor, spring or friction");
+  refuseLinkJointChange(what);
 }
 
 // The degree of freedom a hinge's or slider's motor, limits and spring act on.
