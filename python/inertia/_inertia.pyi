@@ -629,9 +629,9 @@ class Articulation:
     nv: int
     link_count: int
     q: Array
-    """(nq,), a copy."""
+    """(nq,), a read-only view of the world's memory (the steps update it)."""
     qd: Array
-    """(nv,), a copy."""
+    """(nv,), a read-only view."""
     drives: list[Drive]
     constraint_impulses: Array
     """(nv,) N m s or N s."""

@@ -123,12 +123,23 @@ void bindHandle(py::module_& m) {
       .def_property_readonly("link_count",
                              [](const PyArticulation& a) { return a.get().model().linkCount(); })
       .def_property_readonly(
-          "q", [](const PyArticulation& a) { return fromVector(a.get().q()); },
-          "Joint coordinates (rad, m, unit quaternions [w, x, y, z]), (nq,), a copy; "
-          "set_state writes them.")
+          "q",
+          [](const PyArticulation& a) {
+            const art::VectorX<Real>& q = a.get().q();
+            return countedView(a.world, &PyWorld::articulationViews, a.id.index, q.data(),
+                               std::size_t(q.size()), 1);
+          },
+          "Joint coordinates (rad, m, unit quaternions [w, x, y, z]), (nq,): a read-only view "
+          "of the world's memory, which the steps update (np.copy keeps a moment); set_state "
+          "writes them.")
       .def_property_readonly(
-          "qd", [](const PyArticulation& a) { return fromVector(a.get().qd()); },
-          "Joint velocities (rad/s, m/s), (nv,), a copy.")
+          "qd",
+          [](const PyArticulation& a) {
+            const art::VectorX<Real>& qd = a.get().qd();
+            return countedView(a.world, &PyWorld::articulationViews, a.id.index, qd.data(),
+                               std::size_t(qd.size()), 1);
+          },
+          "Joint velocities (rad/s, m/s), (nv,): a read-only view, as q.")
       .def(
           "set_state",
           [](const PyArticulation& a, py::handle q, py::handle qd) {
@@ -274,7 +285,11 @@ void bindWorldMethods(py::module_& m) {
       .def(
           "destroy_articulation",
           [](PyWorld& w, py::handle a) {
-            w->destroyArticulation(toArticulationId(a, "articulation"));
+            const ArticulationId id = toArticulationId(a, "articulation");
+            if (std::as_const(w)->isValid(id))
+              PyWorld::refuseViewed(w.articulationViews, id.index, "destroy_articulation",
+                                    "its state");
+            w->destroyArticulation(id);
           },
           py::arg("articulation"),
           "Removes it and its link bodies; its handles then raise InvalidArgument.")

@@ -55,6 +55,7 @@ struct PyWorld {
   std::unique_ptr<World> world;
   ViewCounts particleViews;
   ViewCounts deformableViews;
+  ViewCounts articulationViews;
   // Set while a step runs with the GIL released (World.step, advance, Batch.step); read and
   // written only while holding the GIL, so the check below cannot race with it.
   bool stepping = false;
@@ -74,6 +75,25 @@ struct PyWorld {
     return w;
   }
   World& operator*() { return *operator->(); }
+  /// ValueError from `call` while NumPy arrays view the memory of system `slot` (in `views`),
+  /// whose `what` (its particles, ...) it would free.
+  static void refuseViewed(const ViewCounts& views, std::uint32_t slot, const char* call,
+                           const char* what) {
+    if (const auto it = views.find(slot); it != views.end())
+      throw py::value_error(std::string(call) + ": " + std::to_string(it->second) +
+                            " NumPy arrays still view " + what + "; delete them first");
+  }
+  /// ValueError from `call` while any NumPy array views this world's memory (restore_state
+  /// may free or move it).
+  void refuseAnyViewed(const char* call) const {
+    int n = 0;
+    for (const ViewCounts* views : {&particleViews, &deformableViews, &articulationViews})
+      for (const auto& [slot, count] : *views) n += count;
+    if (n > 0)
+      throw py::value_error(std::string(call) + ": " + std::to_string(n) +
+                            " NumPy arrays still view this world's particles, vertices or "
+                            "articulation states, which it would free or move; delete them first");
+  }
   static std::uint64_t nextSerial() {
     static std::uint64_t last = 0;  // only touched with the GIL held
     return ++last;

@@ -1,11 +1,88 @@
 #include "convert.h"
 
 #include <algorithm>
+#include <array>
+#include <cctype>
+#include <regex>
+#include <utility>
 
 namespace inertia::python {
 
 void argumentError(const std::string& arg, const std::string& what) {
   throw py::value_error(arg + ": " + what);
+}
+
+namespace {
+
+// C++ fields the Python API names otherwise (its keyword arguments), as the library's messages
+// spell them.
+constexpr std::array<std::pair<const char*, const char*>, 4> kRenamed{{
+    {R"(BodySettings::linearVelocity)", "velocity"},
+    {R"(drive\.targetPosition)", "drive.target"},
+    {R"(\b\w+Settings::?\s*pose\b)", "position and orientation"},
+    {R"(RopeSettings: from and to)", "start and end"},
+}};
+
+std::string snakeCase(const std::string& name) {
+  std::string out;
+  for (char c : name) {
+    if (std::isupper(static_cast<unsigned char>(c))) {
+      out += '_';
+      out += char(std::tolower(static_cast<unsigned char>(c)));
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+// Applies `f` to each match of `re` in `s`, keeping the text between them.
+template <class F>
+std::string replaceEach(const std::string& s, const std::regex& re, F f) {
+  std::string out;
+  auto last = s.cbegin();
+  for (std::sregex_iterator it(s.begin(), s.end(), re), end; it != end; ++it) {
+    out.append(last, (*it)[0].first);
+    out += f(*it);
+    last = (*it)[0].second;
+  }
+  return out.append(last, s.cend());
+}
+
+// The translation of text outside quotes (a quoted name or path is the user's own).
+std::string pythonNames(std::string s) {
+  for (const auto& [cpp, python] : kRenamed) s = std::regex_replace(s, std::regex(cpp), python);
+  // "XSettings::field" and "XSettings: field": the struct of a create_* call's arguments.
+  s = std::regex_replace(s, std::regex(R"(\b[A-Z]\w*Settings(::|: ))"), "");
+  s = std::regex_replace(s, std::regex(R"(\b([A-Z]\w*)::)"), "$1.");
+  // camelCase, except a file's name (followed by its extension, or after a slash).
+  static const std::regex camel(R"(\b[a-z][a-z0-9]*(?:[A-Z][a-z0-9]*)+\b)");
+  return replaceEach(s, camel, [&s](const std::smatch& m) {
+    const auto begin = std::size_t(m.position(0)), end = begin + std::size_t(m.length(0));
+    const bool path = (begin > 0 && s[begin - 1] == '/') ||
+                      (end + 1 < s.size() && s[end] == '.' && std::isalpha(s[end + 1]));
+    return path ? m.str() : snakeCase(m.str());
+  });
+}
+
+}  // namespace
+
+std::string pythonMessage(const std::string& what) {
+  std::string out;
+  std::size_t i = 0;
+  while (i < what.size()) {
+    // A quote opens after a space or a bracket; an apostrophe inside a word ("a link's") does not.
+    std::size_t quote = what.find_first_of("'\"", i);
+    while (quote != std::string::npos && quote > 0 && std::isalnum(what[quote - 1]))
+      quote = what.find_first_of("'\"", quote + 1);
+    if (quote == std::string::npos) return out + pythonNames(what.substr(i));
+    const std::size_t close = what.find(what[quote], quote + 1);
+    out += pythonNames(what.substr(i, quote - i));
+    const std::size_t next = close == std::string::npos ? what.size() : close + 1;
+    out.append(what, quote, next - quote);
+    i = next;
+  }
+  return out;
 }
 
 namespace {

@@ -23,6 +23,13 @@ using RealArray = py::array_t<Real, py::array::c_style | py::array::forcecast>;
 /// Raises ValueError with "ARG: WHAT".
 [[noreturn]] void argumentError(const std::string& arg, const std::string& what);
 
+/// A library error message in the Python API's names, for the InvalidArgument it raises:
+/// a settings struct's qualifier goes (`BodySettings::linearDamping` is the argument
+/// `linear_damping`), another type's becomes Python's dot (`World::advance: maxSteps` reads
+/// `World.advance: max_steps`), camelCase names become snake_case, and the few fields whose
+/// Python argument has another name take it (`BodySettings::linearVelocity` is `velocity`).
+std::string pythonMessage(const std::string& what);
+
 /// A sequence of n numbers (a list, tuple or NumPy array) as Reals; ValueError naming `arg`
 /// otherwise. Values are not checked for finiteness here: the library rejects NaN where it
 /// enters, with its own message.

@@ -242,10 +242,9 @@ void bindCreation(py::class_<PyWorld>& world) {
       .def(
           "destroy_deformable",
           [](PyWorld& w, DeformableId id) {
-            const auto views = w.deformableViews.find(id.index);
-            if (w->isValid(id) && views != w.deformableViews.end())
-              throw py::value_error("destroy_deformable: " + std::to_string(views->second) +
-                                    " NumPy arrays still view its vertices; delete them first");
+            if (w->isValid(id))
+              PyWorld::refuseViewed(w.deformableViews, id.index, "destroy_deformable",
+                                    "its vertices");
             w->destroyDeformable(id);
           },
           py::arg("deformable"))

@@ -7,6 +7,7 @@
 
 #include "articulation_model.h"
 #include "bindings.h"
+#include "convert.h"
 #include "inertia/core/error.h"
 #include "inertia/core/id.h"
 #include "inertia/io/scene.h"
@@ -83,7 +84,9 @@ PYBIND11_MODULE(_inertia, m) {
 
   // InvalidArgument and SceneError are ValueErrors; SceneError carries the file, the JSON
   // pointer and the reason as attributes. The types live as long as the interpreter.
-  py::register_exception<InvalidArgument>(m, "InvalidArgument", PyExc_ValueError);
+  // InvalidArgument's message is the library's, in the Python API's names (pythonMessage).
+  static PyObject* invalidArgument =
+      py::exception<InvalidArgument>(m, "InvalidArgument", PyExc_ValueError).release().ptr();
   static PyObject* sceneError =
       py::exception<io::SceneError>(m, "SceneError", PyExc_ValueError).release().ptr();
   py::register_exception_translator([](std::exception_ptr p) {
@@ -95,6 +98,8 @@ PYBIND11_MODULE(_inertia, m) {
       error.attr("pointer") = e.pointer();
       error.attr("reason") = e.reason();
       PyErr_SetObject(sceneError, error.ptr());
+    } catch (const InvalidArgument& e) {
+      PyErr_SetString(invalidArgument, python::pythonMessage(e.what()).c_str());
     }
   });
 

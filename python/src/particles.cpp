@@ -256,10 +256,9 @@ void bindParticles(py::module_& m) {
       .def(
           "destroy_particle_system",
           [](PyWorld& w, ParticleSystemId id) {
-            const auto views = w.particleViews.find(id.index);
-            if (w->isValid(id) && views != w.particleViews.end())
-              throw py::value_error("destroy_particle_system: " + std::to_string(views->second) +
-                                    " NumPy arrays still view its particles; delete them first");
+            if (w->isValid(id))
+              PyWorld::refuseViewed(w.particleViews, id.index, "destroy_particle_system",
+                                    "its particles");
             w->destroyParticleSystem(id);
           },
           py::arg("system"))

@@ -102,6 +102,7 @@ struct PyState {
 
 void restoreState(PyWorld& w, const PyState& s) {
   World& world = w.get();
+  w.refuseAnyViewed("restore_state");
   world.restoreState(s.state);
   // The snapshot holds every body, joint, contact, particle system, deformable, articulation and
   // the clock, but not the settings (which belong to the world): the recipe at the snapshot

@@ -258,6 +258,27 @@ def two_link_model():
     return model
 
 
+def test_q_and_qd_view_the_worlds_memory():
+    # Read-only views, as the particles' (the library trusts what it stores): they see the
+    # steps and set_state without a copy, and hold the articulation against destruction.
+    world = inertia.World()
+    art = world.create_articulation(two_link_model(), name="arm")
+    q, qd = art.q, art.qd
+    assert np.shares_memory(q, art.q) and np.shares_memory(qd, art.qd)
+    with pytest.raises(ValueError, match="read-only"):
+        q[0] = 1
+    art.set_state(q, qd + 0.5)  # q is read before it is written
+    before = q.copy()
+    world.step()
+    np.testing.assert_array_equal(q, art.q)
+    assert not np.array_equal(q, before)  # gravity swung the arm: the view followed
+    with pytest.raises(ValueError, match="2 NumPy arrays still view its state"):
+        world.destroy_articulation(art)
+    del q, qd
+    world.destroy_articulation(art)
+    assert not art.is_valid()
+
+
 def test_arrays_have_their_shapes_and_writing_them_moves_the_links():
     model = two_link_model()
     assert (model.nq, model.nv, model.link_count, model.shape_count) == (5, 4, 2, 2)

@@ -2,6 +2,7 @@
 interpreter goes on (every test below runs in the same process)."""
 
 import json
+import re
 import threading
 
 import numpy as np
@@ -92,9 +93,9 @@ def test_bad_body_arguments():
         world.add_shape(ball, inertia.Plane())
     with pytest.raises(ValueError, match="dt"):
         world.step(-1)
-    with pytest.raises(ValueError, match="frameTime"):
+    with pytest.raises(ValueError, match="frame_time"):
         world.advance(float("nan"))
-    with pytest.raises(ValueError, match="maxSteps"):
+    with pytest.raises(ValueError, match="max_steps"):
         world.advance(0.1, max_steps=0)
     with pytest.raises(ValueError, match="positions"):
         world.set_positions(np.zeros((3, 3)))  # two bodies
@@ -145,6 +146,23 @@ def test_particle_system_with_live_views_is_not_destroyed():
         inertia.Emitter(shape="torus")
 
 
+def test_restore_state_is_refused_while_views_are_alive():
+    # Restoring a snapshot taken before the system existed frees its pool: a view kept across
+    # it read freed memory (a segmentation fault before the refusal).
+    world = inertia.World()
+    empty = world.save_state()
+    ps = world.create_particle_system(capacity=100)
+    world.add_emitter(ps, inertia.Emitter(burst=50, lifetime=float("inf")))
+    world.step()
+    view = world.particle_positions(ps)
+    with pytest.raises(ValueError, match="restore_state: 1 NumPy arrays still view"):
+        world.restore_state(empty)
+    assert world.is_valid(ps) and world.particle_count(ps) == 50  # nothing restored
+    del view
+    world.restore_state(empty)
+    assert not world.is_valid(ps)
+
+
 def polls_refused(target, poll):
     """Runs target() on a thread and calls poll() here until one is refused or it ends."""
     thread = threading.Thread(target=target)
@@ -183,3 +201,88 @@ def test_particle_writes_must_be_finite():
         world.set_particle_positions(ps, [[0, 0, 0], [0, np.nan, 0]])
     with pytest.raises(ValueError, match="finite"):
         world.set_particle_velocities(ps, [[0, 0, 0], [np.inf, 0, 0]])
+
+
+def _jointed(settings):
+    world, _, ball = ball_world()
+    return world.create_joint(settings(ball))
+
+
+def _with_link(**kwargs):
+    model = inertia.ArticulationModel()
+    return model.add_link(mass=1.0, inertia=(1, 1, 1), **kwargs)
+
+
+def _in_system(item):
+    world = inertia.World()
+    system = world.create_particle_system()
+    if isinstance(item, inertia.Emitter):
+        return world.add_emitter(system, item)
+    return world.add_field(system, item)
+
+
+# Every numeric keyword of the API's constructors and create_* calls, with how to make the
+# object that reads it: (name, make(**{keyword: value}), the keywords).
+KEYWORDS = [
+    ("World", lambda **k: inertia.World(**k), ["gravity", "dt"]),
+    ("create_body", lambda **k: ball_world()[0].create_body(**k),
+     ["position", "orientation", "velocity", "angular_velocity", "linear_damping",
+      "angular_damping", "gravity_scale", "mass", "inertia"]),
+    ("Material", lambda **k: inertia.Material(**k),
+     ["density", "friction", "dynamic_friction", "restitution", "rolling_friction",
+      "spinning_friction"]),
+    ("Capsule", lambda **k: inertia.Capsule(**k), ["radius", "half_height"]),
+    ("Cylinder", lambda **k: inertia.Cylinder(**k), ["radius", "half_height"]),
+    ("Plane", lambda **k: inertia.Plane(**k), ["normal", "offset"]),
+    ("JointMotor", lambda **k: _jointed(
+        lambda b: inertia.HingeJoint(body_b=b, motor=inertia.JointMotor(**k))),
+     ["speed", "max_force", "target", "servo_frequency"]),
+    ("JointSpring", lambda **k: _jointed(
+        lambda b: inertia.HingeJoint(body_b=b, spring=inertia.JointSpring(**k))),
+     ["frequency", "damping_ratio", "rest"]),
+    ("BallJoint", lambda **k: _jointed(lambda b: inertia.BallJoint(body_b=b, **k)),
+     ["anchor_a", "anchor_b", "axis_a", "axis_b", "cone_limit", "friction", "break_force",
+      "break_torque"]),
+    ("SliderJoint", lambda **k: _jointed(lambda b: inertia.SliderJoint(body_b=b, **k)),
+     ["anchor_a", "axis_a", "friction"]),
+    ("DistanceJoint", lambda **k: _jointed(lambda b: inertia.DistanceJoint(body_b=b, **k)),
+     ["length", "min_length", "max_length"]),
+    ("Emitter", lambda **k: _in_system(inertia.Emitter(**k)),
+     ["position", "radius", "angle", "rate", "direction", "spread", "speed", "lifetime", "mass",
+      "size"]),
+    ("VortexField", lambda **k: _in_system(inertia.VortexField(**k)),
+     ["center", "axis", "angular_speed", "core_radius", "tightness"]),
+    ("AttractorField", lambda **k: _in_system(inertia.AttractorField(**k)),
+     ["position", "strength", "cutoff", "min_distance"]),
+    ("TurbulenceField", lambda **k: _in_system(inertia.TurbulenceField(**k)),
+     ["amplitude", "scale", "speed"]),
+    ("WindField", lambda **k: _in_system(inertia.WindField(**k)), ["velocity", "k"]),
+    ("Drive", lambda **k: _with_link(drive=inertia.Drive(**k)),
+     ["stiffness", "damping", "target", "target_velocity", "max_force"]),
+    ("add_link", _with_link,
+     ["axis", "origin_position", "origin_orientation", "limits", "damping", "friction",
+      "armature", "velocity_limit"]),
+    ("rope", lambda **k: inertia.rope(**k), ["start", "end", "mass", "stretch", "bend", "damping"]),
+    ("cloth", lambda **k: inertia.cloth(**k), ["size", "mass", "stretch", "shear", "bend"]),
+    ("hair", lambda **k: inertia.hair(**k), ["radius", "cap_angle", "length", "mass"]),
+]
+# How many numbers each keyword takes where it is not one: NaN goes into the first.
+VECTORS = {"gravity": 3, "position": 3, "orientation": 4, "velocity": 3, "angular_velocity": 3,
+           "inertia": 3, "normal": 3, "anchor_a": 3, "anchor_b": 3, "axis_a": 3, "axis_b": 3,
+           "direction": 3, "center": 3, "axis": 3, "start": 3, "end": 3, "origin_position": 3,
+           "origin_orientation": 4, "limits": 2}
+PAIRS = {("Emitter", k) for k in ("speed", "lifetime", "mass", "size")} | {("cloth", "size")}
+
+
+@pytest.mark.parametrize("where, make, keyword",
+                         [(w, m, k) for w, m, keywords in KEYWORDS for k in keywords])
+def test_every_numeric_keyword_refuses_nan_by_its_python_name(where, make, keyword):
+    """The message names the keyword the caller wrote, not the C++ field behind it: no
+    `Type::` qualifier and no camelCase (pythonMessage)."""
+    n = 2 if (where, keyword) in PAIRS else VECTORS.get(keyword, 1)
+    value = float("nan") if n == 1 else tuple([float("nan")] + [1.0] * (n - 1))
+    with pytest.raises(ValueError) as e:
+        make(**{keyword: value})
+    message = str(e.value)
+    assert keyword in message, message
+    assert "::" not in message and not re.search(r"\b[a-z]+[A-Z]\w*", message), message

@@ -75,18 +75,20 @@ void checkInertia(const LinkInertia<S>& in, const std::string& where) {
 
 template <class S>
 void checkDrive(const Drive<S>& d, const std::string& where) {
-  require(std::isfinite(d.stiffness) && d.stiffness >= 0 && std::isfinite(d.damping) &&
-              d.damping >= 0 && std::isfinite(d.targetPosition) &&
-              std::isfinite(d.targetVelocity) && !std::isnan(d.maxForce) && d.maxForce > 0,
-          where + " needs finite stiffness and damping >= 0, finite targets and maxForce > 0");
+  require(std::isfinite(d.stiffness) && d.stiffness >= 0,
+          where + ".stiffness must be finite and >= 0");
+  require(std::isfinite(d.damping) && d.damping >= 0, where + ".damping must be finite and >= 0");
+  require(std::isfinite(d.targetPosition), where + ".targetPosition must be finite");
+  require(std::isfinite(d.targetVelocity), where + ".targetVelocity must be finite");
+  require(!std::isnan(d.maxForce) && d.maxForce > 0, where + ".maxForce must be > 0");
 }
 
 template <class S>
 void checkJoint(const JointSettings<S>& j, int parent, const std::string& where) {
   const bool scalar = j.type == JointType::Revolute || j.type == JointType::Prismatic;
-  require(j.originPosition.allFinite() && j.originOrientation.coeffs().allFinite() &&
-              j.originOrientation.norm() > S(0.5),
-          where + ".origin must be finite with a non-zero orientation quaternion");
+  require(j.originPosition.allFinite(), where + ".originPosition must be finite");
+  require(j.originOrientation.coeffs().allFinite() && j.originOrientation.norm() > S(0.5),
+          where + ".originOrientation must be a finite, non-zero quaternion");
   require(j.type != JointType::Floating || parent == -1,
           where + ".type: a floating joint attaches a root link (parent -1) only");
   if (scalar)

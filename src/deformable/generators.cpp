@@ -17,9 +17,11 @@ using Index = std::uint32_t;
 void checkCommon(const char* who, Real mass, const SpringStiffness& k, Real damping) {
   const std::string w(who);
   require(std::isfinite(mass) && mass > 0, w + ": mass must be finite and > 0 (kg)");
-  require(std::isfinite(k.stretch) && k.stretch >= 0 && std::isfinite(k.shear) && k.shear >= 0 &&
-              std::isfinite(k.bend) && k.bend >= 0,
-          w + ": stiffness values must be finite and >= 0 (N/m)");
+  const std::pair<Real, const char*> parts[] = {
+      {k.stretch, "stretch"}, {k.shear, "shear"}, {k.bend, "bend"}};
+  for (const auto& [value, name] : parts)
+    require(std::isfinite(value) && value >= 0,
+            w + ": stiffness." + name + " must be finite and >= 0 (N/m)");
   require(std::isfinite(damping) && damping >= 0, w + ": damping must be finite and >= 0 (N s/m)");
 }
 
