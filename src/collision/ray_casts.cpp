@@ -287,12 +287,7 @@ Hit cast(const Collider& collider, const Compound& compound, const Vec3& o, cons
   return best;
 }
 
-}  // namespace
-
-namespace detail {
-
-std::optional<LocalHit> castRayLocal(const Collider& collider, const Vec3& o, const Vec3& d,
-                                     Real maxFraction) {
+Hit castShape(const Collider& collider, const Vec3& o, const Vec3& d, Real maxFraction) {
   const Shape& shape = collider.shape();
   switch (shape.type()) {
     case ShapeType::Plane:
@@ -315,6 +310,21 @@ std::optional<LocalHit> castRayLocal(const Collider& collider, const Vec3& o, co
       return cast(collider, *shape.getIf<Compound>(), o, d, maxFraction);
   }
   return std::nullopt;
+}
+
+}  // namespace
+
+namespace detail {
+
+// A ray whose squares overflow Real (an origin or a direction past about 1e19 m in float) makes
+// the casts' roots NaN, which their range tests let through: such a ray reports no hit rather
+// than a NaN one (the world fuzz target's: a deformable's vertex swept against a body thrown to
+// 1e22 m/s).
+std::optional<LocalHit> castRayLocal(const Collider& collider, const Vec3& o, const Vec3& d,
+                                     Real maxFraction) {
+  const Hit hit = castShape(collider, o, d, maxFraction);
+  if (hit && !(hit->fraction >= 0 && hit->fraction <= maxFraction)) return std::nullopt;
+  return hit;
 }
 
 }  // namespace detail

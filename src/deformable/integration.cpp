@@ -21,6 +21,35 @@ Real linearDamping(const ForceField& f, const Vec3& x) {
   return 0;
 }
 
+// A guard against float's range, not a cap: 1000 times a rigid body's default speed cap (m/s).
+// An explicit method on springs too stiff for its step diverges (why implicit Euler is the
+// default): unguarded, the vertices overflowed within a few steps and the collision stages met
+// infinities (the world fuzz target's world-deformable-explicit-runaway inputs: a ray cast, a
+// tree update, a body struck to 1e22 m/s). A vertex's speed and its displacement over the step
+// are held to this bound, so a divergence grows positions at most linearly and stays finite.
+// No sane motion comes near it, and the implicit step does not diverge.
+constexpr Real kRunawaySpeed = 4e5;
+
+// Scales u down to the norm `limit` when it is longer (measured without overflow); true when
+// it did.
+template <class V>
+bool holdTo(V&& u, Real limit) {
+  const Real s2 = u.squaredNorm();
+  if (!(s2 > limit * limit)) return false;
+  u *= limit / (std::isinf(s2) ? u.stableNorm() : std::sqrt(s2));
+  return true;
+}
+
+void guardRunaways(std::vector<Real>& x, const std::vector<Real>& start, std::vector<Real>& v,
+                   Real h) {
+  for (std::size_t i = 0; 3 * i < v.size(); ++i) {
+    holdTo(Eigen::Map<Vec3>(&v[3 * i]), kRunawaySpeed);
+    Eigen::Map<Vec3> xi(&x[3 * i]);
+    const Vec3 from = Eigen::Map<const Vec3>(&start[3 * i]);
+    Vec3 d = xi - from;
+    if (holdTo(d, h * kRunawaySpeed)) xi = from + d;
+  }
+}
 }  // namespace
 
 // x'' = (fields + springs) / m, pinned vertices held (a = 0, and their v is 0).
@@ -58,6 +87,7 @@ void Deformable::integrateExplicit(Real h) {
     v_ = w.startVelocity;
     lastSolve_.converged = false;
   }
+  guardRunaways(x_, w.start, v_, h);
 }
 
 void Deformable::integrateImplicit(Real h, detail::StepWorkers& workers) {

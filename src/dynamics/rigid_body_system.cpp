@@ -386,6 +386,9 @@ Mat3 RigidBodySystem::inertiaWorld(BodyId id) const {
   const Mat3 R = b.pose.q.toRotationMatrix();
   return R * b.inertiaLocal * R.transpose();
 }
+Mat3 RigidBodySystem::inverseInertiaWorld(BodyId id) const {
+  return d_->body(id).invInertiaWorld();
+}
 BodyType RigidBodySystem::type(BodyId id) const { return d_->body(id).type; }
 std::string_view RigidBodySystem::name(BodyId id) const { return d_->body(id).name; }
 bool RigidBodySystem::isAwake(BodyId id) const { return d_->body(id).awake; }

@@ -16,6 +16,10 @@ using Data = RigidBodyData;
 
 namespace {
 
+// The runaway guard's bound (guardRunaways), in multiples of a body's speed caps (400 m/s and
+// 200 rad/s by default).
+constexpr Real kRunaway = 1000;
+
 // The solver body of body slot `bi`, made on first use (-1 for a static body): the slots are
 // numbered in the order of the contacts, whatever the number of workers.
 int solverSlot(Data& D, std::uint32_t bi) {
@@ -151,6 +155,27 @@ void prepareMotion(Data& D, const DynamicsSettings& s, Real h, StepWorkers& work
   });
 }
 
+// Between a pass's iterations, a body faster than kRunaway times its speed caps is brought
+// back to that: a guard against float's range, not a cap (the caps act before each velocity
+// and position update, and a sane scene never meets this bound: its bytes do not change). The
+// world fuzz target found bodies of micrograms or micrometres (inverse inertia up to 1e17)
+// whose rows hold those inverse masses beside a heavy body's: K^-1 carries the rounding of K's
+// largest entries, and each iteration multiplied the body's speed (1e7 rad/s by the third, or
+// 3e9 in the first) until it overflowed to NaN within one substep (inputs
+// world-sliver-jointed-100km-away-nan, world-sliver-and-spinning-tree-contact-nan). Bounded at
+// each iteration's start, the runaway stays finite, and the position update's caps end it.
+// One pass over the solver bodies per iteration but the last.
+void guardRunaways(Data& D) {
+  for (std::size_t k = 0; k < D.solverBodies.size(); ++k) {
+    const Data::SubstepMotion& m = D.motion[k];
+    if (!m.dynamic) continue;  // a kinematic body keeps the velocity it is given
+    SolverBody& sb = D.solverBodies[k];
+    const Real v = kRunaway * m.maxLinearSpeed, w = kRunaway * m.maxAngularSpeed;
+    if (sb.v.squaredNorm() > v * v) capSpeed(sb.v, v);
+    if (sb.w.squaredNorm() > w * w) capSpeed(sb.w, w);
+  }
+}
+
 // Velocities of the constrained bodies, from their capped speeds: gravity, forces, damping,
 // implicit gyroscopic term.
 void integrateVelocities(Data& D, Real h, StepWorkers& workers) {
@@ -253,6 +278,7 @@ void solve(Data& D, const BiasMode& mode, const JointPass& jointPass, int iterat
     solveMultibodyJoints(D, jointPass);
     solveMultibodyContacts(D, mode);
     solveMultibodyRows(D);
+    if (it + 1 < iterations) guardRunaways(D);
   }
 }
 

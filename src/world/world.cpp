@@ -105,7 +105,7 @@ void World::gatherBodyObstacles() {
     const Vec3 center = bodies_.centerOfMass(body);
     const bool dynamic = bodies_.type(body) == BodyType::Dynamic && bodies_.mass(body) > 0;
     const Real inverseMass = dynamic ? 1 / bodies_.mass(body) : Real(0);
-    const Mat3 inverseInertia = dynamic ? Mat3(bodies_.inertiaWorld(body).inverse()) : Mat3::Zero();
+    const Mat3 inverseInertia = dynamic ? bodies_.inverseInertiaWorld(body) : Mat3::Zero();
     for (ShapeId shape : bodies_.shapes(body)) {
       bodyObstacles_.push_back({&bodies_.collider(shape), bodies_.shapeTransform(shape), v, w,
                                 center, inverseMass, inverseInertia});

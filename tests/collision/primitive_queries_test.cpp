@@ -2,6 +2,9 @@
 // distances and sphere-traced hits computed independently in double.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 #include "collision_test_util.h"
 
 using namespace inertia;
@@ -176,6 +179,25 @@ TEST(PrimitiveRayCast, ZeroDirectionAndNegativeMaxFractionGiveNothing) {
   ASSERT_TRUE(hit);
   EXPECT_NEAR(hit->fraction, Real(0.4), 4 * kEps);
   EXPECT_FALSE(castRay(ball, {}, Ray{Vec3(-5, 0, 0), Vec3(10, 0, 0), Real(0.39)}));
+}
+
+// A ray whose squared length overflows Real (the world fuzz target's: a vertex swept against a
+// body thrown to 1e22 m/s, which put the origin at 3e34 m in the body's frame) made every
+// primitive's roots NaN, and a NaN fraction passed their range tests: a hit at NaN. Such a
+// ray reports no hit now, and a ray that fits still hits.
+TEST(PrimitiveRayCast, RaysPastRealsRangeGiveNoHitRatherThanNaN) {
+  const Real huge = std::numeric_limits<Real>::max() / 1e4f;
+  const Vec3 far(-huge, huge / 8, huge / 2);
+  for (const Shape& shape : {Shape(Sphere{Real(0.5)}), Shape(Capsule{Real(0.5), Real(0.5)}),
+                             Shape(Box{Vec3::Constant(Real(0.5))}),
+                             Shape(Cylinder{Real(0.5), Real(0.5)})}) {
+    const Collider collider(shape);
+    const auto hit = castRay(collider, {}, Ray{far, -far, 1});
+    EXPECT_TRUE(!hit || (std::isfinite(hit->fraction) && hit->point.allFinite()));
+    const auto near = castRay(collider, {}, Ray{Vec3(-5, 0, 0), Vec3(10, 0, 0), 1});
+    ASSERT_TRUE(near);
+    EXPECT_NEAR(near->fraction, Real(0.45), Real(1e-6));
+  }
 }
 
 TEST(PrimitiveRayCast, OriginOnTheSurfaceMovingInHitsAtZero) {

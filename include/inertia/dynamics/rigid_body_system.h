@@ -188,6 +188,10 @@ class RigidBodySystem {
   Vec3 angularVelocity(BodyId id) const;      ///< (rad/s)
   Real mass(BodyId id) const;                 ///< (kg); 0 for static and kinematic bodies.
   Mat3 inertiaWorld(BodyId id) const;         ///< About the centre of mass (kg m^2).
+  /// The inverse of inertiaWorld (1/(kg m^2)) as the solver uses it; zero for static and
+  /// kinematic bodies. inertiaWorld().inverse() loses it for a body of micrometres in float,
+  /// whose cofactors underflow (0/0: NaN).
+  Mat3 inverseInertiaWorld(BodyId id) const;
   BodyType type(BodyId id) const;
   std::string_view name(BodyId id) const;
   bool isAwake(BodyId id) const;
