@@ -129,11 +129,17 @@ def test_bad_joint_arguments():
         world.create_joint(inertia.SliderJoint(body_b=ball, axis_a=(0, 0, 0)))
 
 
+def emitted(world, capacity, burst):
+    """A particle system of `world` holding `burst` immortal particles after one step."""
+    ps = world.create_particle_system(capacity=capacity)
+    world.add_emitter(ps, inertia.Emitter(burst=burst, lifetime=float("inf")))
+    world.step()
+    return ps
+
+
 def test_particle_system_with_live_views_is_not_destroyed():
     world = inertia.World()
-    ps = world.create_particle_system(capacity=10)
-    world.add_emitter(ps, inertia.Emitter(burst=5, lifetime=float("inf")))
-    world.step()
+    ps = emitted(world, 10, 5)
     view = world.particle_positions(ps)
     with pytest.raises(ValueError, match="view"):
         world.destroy_particle_system(ps)
@@ -151,9 +157,7 @@ def test_restore_state_is_refused_while_views_are_alive():
     # it read freed memory (a segmentation fault before the refusal).
     world = inertia.World()
     empty = world.save_state()
-    ps = world.create_particle_system(capacity=100)
-    world.add_emitter(ps, inertia.Emitter(burst=50, lifetime=float("inf")))
-    world.step()
+    ps = emitted(world, 100, 50)
     view = world.particle_positions(ps)
     with pytest.raises(ValueError, match="restore_state: 1 NumPy arrays still view"):
         world.restore_state(empty)
@@ -194,9 +198,7 @@ def test_a_world_being_stepped_refuses_other_threads():
 
 def test_particle_writes_must_be_finite():
     world = inertia.World()
-    ps = world.create_particle_system(capacity=10)
-    world.add_emitter(ps, inertia.Emitter(burst=2, lifetime=float("inf")))
-    world.step()
+    ps = emitted(world, 10, 2)
     with pytest.raises(ValueError, match="finite"):
         world.set_particle_positions(ps, [[0, 0, 0], [0, np.nan, 0]])
     with pytest.raises(ValueError, match="finite"):
