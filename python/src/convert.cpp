@@ -55,12 +55,13 @@ std::string pythonNames(std::string s) {
   // "XSettings::field" and "XSettings: field": the struct of a create_* call's arguments.
   s = std::regex_replace(s, std::regex(R"(\b[A-Z]\w*Settings(::|: ))"), "");
   s = std::regex_replace(s, std::regex(R"(\b([A-Z]\w*)::)"), "$1.");
-  // camelCase, except a file's name (followed by its extension, or after a slash).
+  // camelCase, except a file's name (after a slash, or before ".obj", the one mesh format
+  // whose path the library's InvalidArgument messages may carry).
   static const std::regex camel(R"(\b[a-z][a-z0-9]*(?:[A-Z][a-z0-9]*)+\b)");
   return replaceEach(s, camel, [&s](const std::smatch& m) {
     const auto begin = std::size_t(m.position(0)), end = begin + std::size_t(m.length(0));
     const bool path = (begin > 0 && s[begin - 1] == '/') ||
-                      (end + 1 < s.size() && s[end] == '.' && std::isalpha(s[end + 1]));
+                      (end + 4 <= s.size() && s.compare(end, 4, ".obj") == 0);
     return path ? m.str() : snakeCase(m.str());
   });
 }
@@ -73,7 +74,8 @@ std::string pythonMessage(const std::string& what) {
   while (i < what.size()) {
     // A quote opens after a space or a bracket; an apostrophe inside a word ("a link's") does not.
     std::size_t quote = what.find_first_of("'\"", i);
-    while (quote != std::string::npos && quote > 0 && std::isalnum(what[quote - 1]))
+    while (quote != std::string::npos && quote > 0 &&
+           std::isalnum(static_cast<unsigned char>(what[quote - 1])))
       quote = what.find_first_of("'\"", quote + 1);
     if (quote == std::string::npos) return out + pythonNames(what.substr(i));
     const std::size_t close = what.find(what[quote], quote + 1);
