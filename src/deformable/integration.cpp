@@ -6,6 +6,7 @@
 
 #include "deformable/scratch.h"
 #include "deformable/spring_forces.h"
+#include "dynamics/integrate.h"
 #include "inertia/ode/step.h"
 
 namespace inertia {
@@ -30,24 +31,15 @@ Real linearDamping(const ForceField& f, const Vec3& x) {
 // No sane motion comes near it, and the implicit step does not diverge.
 constexpr Real kRunawaySpeed = 4e5;
 
-// Scales u down to the norm `limit` when it is longer (measured without overflow); true when
-// it did.
-template <class V>
-bool holdTo(V&& u, Real limit) {
-  const Real s2 = u.squaredNorm();
-  if (!(s2 > limit * limit)) return false;
-  u *= limit / (std::isinf(s2) ? u.stableNorm() : std::sqrt(s2));
-  return true;
-}
-
 void guardRunaways(std::vector<Real>& x, const std::vector<Real>& start, std::vector<Real>& v,
                    Real h) {
   for (std::size_t i = 0; 3 * i < v.size(); ++i) {
-    holdTo(Eigen::Map<Vec3>(&v[3 * i]), kRunawaySpeed);
-    Eigen::Map<Vec3> xi(&x[3 * i]);
+    Eigen::Map<Vec3> vi(&v[3 * i]), xi(&x[3 * i]);
+    Vec3 u = vi;
+    if (detail::capSpeed(u, kRunawaySpeed)) vi = u;
     const Vec3 from = Eigen::Map<const Vec3>(&start[3 * i]);
     Vec3 d = xi - from;
-    if (holdTo(d, h * kRunawaySpeed)) xi = from + d;
+    if (detail::capSpeed(d, h * kRunawaySpeed)) xi = from + d;
   }
 }
 }  // namespace

@@ -169,10 +169,8 @@ void guardRunaways(Data& D) {
   for (std::size_t k = 0; k < D.solverBodies.size(); ++k) {
     const Data::SubstepMotion& m = D.motion[k];
     if (!m.dynamic) continue;  // a kinematic body keeps the velocity it is given
-    SolverBody& sb = D.solverBodies[k];
-    const Real v = kRunaway * m.maxLinearSpeed, w = kRunaway * m.maxAngularSpeed;
-    if (sb.v.squaredNorm() > v * v) capSpeed(sb.v, v);
-    if (sb.w.squaredNorm() > w * w) capSpeed(sb.w, w);
+    capSpeed(D.solverBodies[k].v, kRunaway * m.maxLinearSpeed);
+    capSpeed(D.solverBodies[k].w, kRunaway * m.maxAngularSpeed);
   }
 }
 
