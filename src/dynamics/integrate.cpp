@@ -12,7 +12,11 @@ Vec3 implicitGyroscopic(const Quat& q, const Mat3& I, const Vec3& w, Real h) {
   const Vec3 f = h * w1.cross(Iw);
   const Mat3 J = I + h * (skew(w1) * I - skew(Iw));
   const Vec3 w2 = w1 - J.partialPivLu().solve(f);
-  return q * w2;
+  // A Newton matrix singular in float (a light needle, h |w| near 1: two of J's rows came out
+  // proportional, and the LU's last pivot 0 gave 0/0; fuzz input
+  // world-micro-body-gyroscopic-nan): the substep keeps w, the explicit step without the
+  // gyroscopic term.
+  return w2.allFinite() ? Vec3(q * w2) : w;
 }
 
 void splitFreeRotation(Quat& principal, const Vec3& moments, const Vec3& L, Real h) {

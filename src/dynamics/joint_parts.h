@@ -300,28 +300,38 @@ struct RowBlock {
       const {
     return {inverseMass.data(), count, count};
   }
-  // K^-1 for N rows by a fixed-size LDLT (K is positive semi-definite; LDLT's pivoting keeps a
-  // singular K, two rows on one freedom, from blowing up). Where a pivot falls below 1e-4 of its
-  // row's diagonal (K's condition past 1e4 in that direction: an anchor at a lever far beyond
-  // a light body's radius of gyration), the unscaled pivots carry rounding of K's largest
-  // entries, which may come out as noise of any size (a 2 mg bead welded 100 km away went to
-  // NaN in its first step, found by the world fuzz target); K is then factored again
-  // equilibrated by its diagonal, S = D^-1/2 K D^-1/2, whose pivots lie in [0, 1] with
-  // rounding of N eps, and a pivot below that gets no impulse (K^-1 is S's pseudo-inverse,
-  // scaled back): a direction Real cannot resolve is left free rather than driven by noise.
-  template <int N>
-  void invert(const SolverBody& a, const SolverBody& b) {
-    std::array<Vec3, N> ia, ib;
+  // K = J M^-1 J^T for N rows, in scalar S.
+  template <int N, class S>
+  Eigen::Matrix<S, N, N> massMatrix(const SolverBody& a, const SolverBody& b) const {
+    const Eigen::Matrix<S, 3, 3> invA = a.invInertia.cast<S>(), invB = b.invInertia.cast<S>();
+    std::array<Eigen::Matrix<S, 3, 1>, N> ia, ib;
     for (std::size_t i = 0; i < std::size_t(N); ++i) {
-      ia[i] = a.invInertia * rows[i].ja;
-      ib[i] = b.invInertia * rows[i].jb;
+      ia[i] = invA * rows[i].ja.cast<S>();
+      ib[i] = invB * rows[i].jb.cast<S>();
     }
-    const Real m = a.invMass + b.invMass;
-    Eigen::Matrix<Real, N, N> k;
+    const S m = S(a.invMass) + S(b.invMass);
+    Eigen::Matrix<S, N, N> k;
     for (std::size_t i = 0; i < std::size_t(N); ++i)
       for (std::size_t j = 0; j <= i; ++j)
         k(int(i), int(j)) = k(int(j), int(i)) =
-            m * rows[i].linear.dot(rows[j].linear) + rows[i].ja.dot(ia[j]) + rows[i].jb.dot(ib[j]);
+            m * rows[i].linear.cast<S>().dot(rows[j].linear.cast<S>()) +
+            rows[i].ja.cast<S>().dot(ia[j]) + rows[i].jb.cast<S>().dot(ib[j]);
+    return k;
+  }
+  // K^-1 for N rows by a fixed-size LDLT (K is positive semi-definite; LDLT's pivoting keeps a
+  // singular K, two rows on one freedom, from blowing up). Where a pivot falls below 1e-4 of its
+  // row's diagonal (K's condition past 1e4 in that direction: an anchor at a lever far beyond
+  // a light body's radius of gyration), or K is not finite, the unscaled pivots carry rounding
+  // of K's largest entries, which may come out as noise of any size (a 2 mg bead welded 100 km
+  // away went to NaN in its first step, found by the world fuzz target); K is then made again
+  // in double, whose range holds what float's may not (a 4e-17 kg body on a 1e5 m arm has
+  // K_ii = 6e38: fuzz input world-light-body-joint-block-nan), and factored equilibrated by its
+  // diagonal, S = D^-1/2 K D^-1/2, whose pivots lie in [0, 1] with rounding of N float eps; a
+  // pivot below that gets no impulse (K^-1 is S's pseudo-inverse, scaled back): a direction
+  // Real cannot resolve is left free rather than driven by noise.
+  template <int N>
+  void invert(const SolverBody& a, const SolverBody& b) {
+    const Eigen::Matrix<Real, N, N> k = massMatrix<N, Real>(a, b);
     Eigen::Map<Eigen::Matrix<Real, N, N>> inverse(inverseMass.data());
     if constexpr (N == 1) {  // what LDLT's solve gives a 1 x 1 K
       inverse(0, 0) = k(0, 0) > std::numeric_limits<Real>::min() ? 1 / k(0, 0) : Real(0);
@@ -330,23 +340,27 @@ struct RowBlock {
     const Eigen::LDLT<Eigen::Matrix<Real, N, N>> ldlt(k);
     // Pivot i is row P(i)'s diagonal less what the earlier rows explain of it.
     const Eigen::Matrix<Real, N, 1> diagonal = ldlt.transpositionsP() * k.diagonal();
-    if (((ldlt.vectorD().array() >= Real(1e-4) * diagonal.array()) ||
-         (diagonal.array() == 0 && ldlt.vectorD().array() == 0))
-            .all()) {
+    if (k.allFinite() && ((ldlt.vectorD().array() >= Real(1e-4) * diagonal.array()) ||
+                          (diagonal.array() == 0 && ldlt.vectorD().array() == 0))
+                             .all()) {
       inverse = ldlt.solve(Eigen::Matrix<Real, N, N>::Identity());
       return;
     }
-    Eigen::Matrix<Real, N, 1> scale;
-    for (int i = 0; i < N; ++i) scale(i) = k(i, i) > 0 ? 1 / std::sqrt(k(i, i)) : Real(0);
-    const Eigen::Matrix<Real, N, N> s = scale.asDiagonal() * k * scale.asDiagonal();
-    const Eigen::LDLT<Eigen::Matrix<Real, N, N>> scaled(s);
+    using Wide = Eigen::Matrix<double, N, N>;
+    const Wide wide = massMatrix<N, double>(a, b);
+    Eigen::Matrix<double, N, 1> scale;
+    for (int i = 0; i < N; ++i) scale(i) = wide(i, i) > 0 ? 1 / std::sqrt(wide(i, i)) : 0.0;
+    const Wide s = scale.asDiagonal() * wide * scale.asDiagonal();
+    const Eigen::LDLT<Wide> scaled(s);
     const auto d = scaled.vectorD();
-    Eigen::Matrix<Real, N, N> x = scaled.transpositionsP() * Eigen::Matrix<Real, N, N>::Identity();
+    Wide x = scaled.transpositionsP() * Wide::Identity();
     scaled.matrixL().solveInPlace(x);
     for (int i = 0; i < N; ++i)
-      x.row(i) *= d(i) > N * std::numeric_limits<Real>::epsilon() ? 1 / d(i) : Real(0);
+      x.row(i) *= d(i) > N * double(std::numeric_limits<Real>::epsilon()) ? 1 / d(i) : 0.0;
     scaled.matrixU().solveInPlace(x);
-    inverse = scale.asDiagonal() * (scaled.transpositionsP().transpose() * x) * scale.asDiagonal();
+    inverse = (scale.asDiagonal() * (scaled.transpositionsP().transpose() * x) *
+               scale.asDiagonal())
+                  .template cast<Real>();
   }
 };
 
