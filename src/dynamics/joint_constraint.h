@@ -87,6 +87,7 @@ struct JointConstraint {
   int bodyA = -1;  ///< Solver body, -1 for a static body or the world.
   int bodyB = -1;
   int stamp = -1;  ///< The position update its rows and coordinates were prepared for.
+  std::uint32_t joint = 0;  ///< JointRecord index.
   /// Nothing but the locked rows to solve (lockedOnly()): the passes leave the record alone.
   bool lockedOnly = false;
   /// A plain ball joint (lockedOnly): its anchors' point constraint is all there is to it.
@@ -96,7 +97,6 @@ struct JointConstraint {
   /// weld's all (6), a six-DOF joint's locked degrees of freedom. Kept here, in colour order,
   /// so the passes read it in sequence; JointParts::lockImpulse carries its impulses.
   RowBlock lock;
-  std::uint32_t joint = 0;  ///< JointRecord index.
   Vec3 rA = Vec3::Zero();  ///< Anchor minus centre of mass, world (m).
   Vec3 rB = Vec3::Zero();
   Vec3 deltaCenter = Vec3::Zero();  ///< cB - cA (m).

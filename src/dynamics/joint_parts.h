@@ -213,28 +213,42 @@ struct RowBlock {
     return {a.y() * b.z() - a.z() * b.y(), a.z() * b.x() - a.x() * b.z(),
             a.x() * b.y() - a.y() * b.x()};
   }
+  // The point constraint's passes in scalars, every input read before the first write: the
+  // same operations in the same order as the vector form (the same bits), which the compiler
+  // kept in loops through the stack, reloading each body after each write (it cannot know
+  // that a and b are two bodies). A large joint grid spends most of its step here.
   void applyPoint(SolverBody& a, SolverBody& b, const Vec3& lambda) const {
-    for (int i = 0; i < 3; ++i) {
-      a.v(i) -= a.invMass * lambda(i);
-      b.v(i) += b.invMass * lambda(i);
-    }
-    addSymmetricProduct(a.w, -1, a.invInertia, cross(armA, lambda));
-    addSymmetricProduct(b.w, 1, b.invInertia, cross(armB, lambda));
+    const Real lx = lambda.x(), ly = lambda.y(), lz = lambda.z();
+    const Vec3 ta = cross(armA, lambda), tb = cross(armB, lambda);
+    const Real ma = a.invMass, mb = b.invMass;
+    Vec3 va = a.v, vb = b.v, wa = a.w, wb = b.w;
+    va.x() -= ma * lx;
+    va.y() -= ma * ly;
+    va.z() -= ma * lz;
+    vb.x() += mb * lx;
+    vb.y() += mb * ly;
+    vb.z() += mb * lz;
+    addSymmetricProduct(wa, -1, a.invInertia, ta);
+    addSymmetricProduct(wb, 1, b.invInertia, tb);
+    a.v = va;
+    a.w = wa;
+    b.v = vb;
+    b.w = wb;
   }
   void solvePoint(SolverBody& a, SolverBody& b, const Softness& soft) {
     const Vec3 wbr = cross(b.w, armB), war = cross(a.w, armA);
-    Vec3 rhs;
-    for (int i = 0; i < 3; ++i)
-      rhs(i) = (b.v(i) + wbr(i)) - (a.v(i) + war(i)) + jointBias(soft, error(i));
+    const Real rx = (b.v.x() + wbr.x()) - (a.v.x() + war.x()) + jointBias(soft, error(0));
+    const Real ry = (b.v.y() + wbr.y()) - (a.v.y() + war.y()) + jointBias(soft, error(1));
+    const Real rz = (b.v.z() + wbr.z()) - (a.v.z() + war.z()) + jointBias(soft, error(2));
     // K^-1 is symmetric: its upper triangle, packed as addArmMass's.
     const Real* m = inverseMass.data();
-    const Vec3 delta(-soft.massScale * (m[0] * rhs.x() + m[1] * rhs.y() + m[2] * rhs.z()) -
-                         soft.impulseScale * impulse(0),
-                     -soft.massScale * (m[1] * rhs.x() + m[3] * rhs.y() + m[4] * rhs.z()) -
-                         soft.impulseScale * impulse(1),
-                     -soft.massScale * (m[2] * rhs.x() + m[4] * rhs.y() + m[5] * rhs.z()) -
-                         soft.impulseScale * impulse(2));
-    for (int i = 0; i < 3; ++i) impulse(i) += delta(i);
+    const Real s = soft.massScale, t = soft.impulseScale;
+    const Vec3 delta(-s * (m[0] * rx + m[1] * ry + m[2] * rz) - t * impulse(0),
+                     -s * (m[1] * rx + m[3] * ry + m[4] * rz) - t * impulse(1),
+                     -s * (m[2] * rx + m[4] * ry + m[5] * rz) - t * impulse(2));
+    impulse(0) += delta.x();
+    impulse(1) += delta.y();
+    impulse(2) += delta.z();
     applyPoint(a, b, delta);
   }
 

@@ -351,16 +351,18 @@ void solveRows(JointConstraint& c, const JointRecord& j, JointParts& p, SolverBo
 // body may be shared by joints solved at the same time.
 template <class F>
 void withBodies(const JointConstraint& c, std::vector<SolverBody>& bodies, F f) {
-  // A moving body in place (no other joint or contact of the colour touches it), anything
-  // else as a copy whose writes are dropped (made only when needed: most joints have none).
-  std::optional<SolverBody> copyA, copyB;
-  const auto pick = [&](int index, std::optional<SolverBody>& copy) -> SolverBody& {
-    if (index < 0) return copy.emplace();
-    SolverBody& body = bodies[std::size_t(index)];
-    if (body.invMass > 0) return body;
-    return copy.emplace(body);
+  // Both bodies moving (no other joint or contact of the colour touches them): in place. That
+  // is nearly every joint; the copies below are made only for the others (a joint to the
+  // world, a static or a kinematic body), and a copy of a solver body costs its 144 bytes.
+  const auto at = [&](int index) {
+    return index >= 0 ? &bodies[std::size_t(index)] : static_cast<SolverBody*>(nullptr);
   };
-  f(pick(c.bodyA, copyA), pick(c.bodyB, copyB));
+  SolverBody* a = at(c.bodyA);
+  SolverBody* b = at(c.bodyB);
+  const auto moving = [](const SolverBody* body) { return body && body->invMass > 0; };
+  if (moving(a) && moving(b)) return f(*a, *b);
+  SolverBody copyA = a ? *a : SolverBody{}, copyB = b ? *b : SolverBody{};
+  f(moving(a) ? *a : copyA, moving(b) ? *b : copyB);
 }
 
 }  // namespace
