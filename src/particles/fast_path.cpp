@@ -136,12 +136,13 @@ void stepLoops(const ParticleStepBatch& a, ParticleStepCounts& counts) {
     } else {
       for (std::size_t i = 0; i < n; ++i) {
         const Real r = radius[i];
-        const bool in = (min(start[3 * i], x[3 * i]) - r <= t.hi0) &
-                        (max(start[3 * i], x[3 * i]) + r >= t.lo0) &
-                        (min(start[3 * i + 1], x[3 * i + 1]) - r <= t.hi1) &
-                        (max(start[3 * i + 1], x[3 * i + 1]) + r >= t.lo1) &
-                        (min(start[3 * i + 2], x[3 * i + 2]) - r <= t.hi2) &
-                        (max(start[3 * i + 2], x[3 * i + 2]) + r >= t.lo2);
+        // Bitwise on ints, not && on bools: no branches, so the loop vectorises.
+        const int in = int(min(start[3 * i], x[3 * i]) - r <= t.hi0) &
+                       int(max(start[3 * i], x[3 * i]) + r >= t.lo0) &
+                       int(min(start[3 * i + 1], x[3 * i + 1]) - r <= t.hi1) &
+                       int(max(start[3 * i + 1], x[3 * i + 1]) + r >= t.lo1) &
+                       int(min(start[3 * i + 2], x[3 * i + 2]) - r <= t.hi2) &
+                       int(max(start[3 * i + 2], x[3 * i + 2]) + r >= t.lo2);
         touch[i] |= in;
       }
     }

@@ -75,9 +75,10 @@ inline bool mayTouch(const NearTest& t, const Real* a, const Real* b, Real r) {
     const Real da = t.n0 * a[0] + t.n1 * a[1] + t.n2 * a[2], db = t.n0 * b[0] + t.n1 * b[1] + t.n2 * b[2];
     return std::min(da, db) < t.offset + r;
   }
-  return (std::min(a[0], b[0]) - r <= t.hi0) & (std::max(a[0], b[0]) + r >= t.lo0) &
-         (std::min(a[1], b[1]) - r <= t.hi1) & (std::max(a[1], b[1]) + r >= t.lo1) &
-         (std::min(a[2], b[2]) - r <= t.hi2) & (std::max(a[2], b[2]) + r >= t.lo2);
+  // Bitwise on ints, not && on bools: no branches, so the callers' loops vectorise.
+  return (int(std::min(a[0], b[0]) - r <= t.hi0) & int(std::max(a[0], b[0]) + r >= t.lo0) &
+          int(std::min(a[1], b[1]) - r <= t.hi1) & int(std::max(a[1], b[1]) + r >= t.lo1) &
+          int(std::min(a[2], b[2]) - r <= t.hi2) & int(std::max(a[2], b[2]) + r >= t.lo2)) != 0;
 }
 
 // Writes the batch indices of the particles that may touch some obstacle to `list` (in
