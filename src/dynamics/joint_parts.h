@@ -340,9 +340,10 @@ struct RowBlock {
   // away went to NaN in its first step, found by the world fuzz target); K is then made again
   // in double, whose range holds what float's may not (a 4e-17 kg body on a 1e5 m arm has
   // K_ii = 6e38: fuzz input world-light-body-joint-block-nan), and factored equilibrated by its
-  // diagonal, S = D^-1/2 K D^-1/2, whose pivots lie in [0, 1] with rounding of N float eps; a
-  // pivot below that gets no impulse (K^-1 is S's pseudo-inverse, scaled back): a direction
-  // Real cannot resolve is left free rather than driven by noise.
+  // diagonal, S = D^-1/2 K D^-1/2, whose pivots lie in [0, 1]. A pivot below N Real epsilons
+  // (the rounding the rows carry from Real, whatever the factorisation's precision) gets no
+  // impulse (K^-1 is S's pseudo-inverse, scaled back): a direction Real cannot resolve is left
+  // free rather than driven by noise.
   template <int N>
   void invert(const SolverBody& a, const SolverBody& b) {
     const Eigen::Matrix<Real, N, N> k = massMatrix<N, Real>(a, b);
@@ -351,19 +352,25 @@ struct RowBlock {
       inverse(0, 0) = k(0, 0) > std::numeric_limits<Real>::min() ? 1 / k(0, 0) : Real(0);
       return;
     }
-    const Eigen::LDLT<Eigen::Matrix<Real, N, N>> ldlt(k);
-    // Pivot i is row P(i)'s diagonal less what the earlier rows explain of it.
-    const Eigen::Matrix<Real, N, 1> diagonal = ldlt.transpositionsP() * k.diagonal();
-    if (k.allFinite() && ((ldlt.vectorD().array() >= Real(1e-4) * diagonal.array()) ||
-                          (diagonal.array() == 0 && ldlt.vectorD().array() == 0))
-                             .all()) {
-      inverse = ldlt.solve(Eigen::Matrix<Real, N, N>::Identity());
-      return;
+    if (k.allFinite()) {
+      const Eigen::LDLT<Eigen::Matrix<Real, N, N>> ldlt(k);
+      // Pivot i is row P(i)'s diagonal less what the earlier rows explain of it.
+      const Eigen::Matrix<Real, N, 1> diagonal = ldlt.transpositionsP() * k.diagonal();
+      if (((ldlt.vectorD().array() >= Real(1e-4) * diagonal.array()) ||
+           (diagonal.array() == 0 && ldlt.vectorD().array() == 0))
+              .all()) {
+        inverse = ldlt.solve(Eigen::Matrix<Real, N, N>::Identity());
+        return;
+      }
     }
     using Wide = Eigen::Matrix<double, N, N>;
     const Wide wide = massMatrix<N, double>(a, b);
+    // A diagonal below Real's smallest normal (0 in Real, as the rows' rounding has it) is a
+    // direction left free, as in Real.
+    constexpr double kSmallest = double(std::numeric_limits<Real>::min());
     Eigen::Matrix<double, N, 1> scale;
-    for (int i = 0; i < N; ++i) scale(i) = wide(i, i) > 0 ? 1 / std::sqrt(wide(i, i)) : 0.0;
+    for (int i = 0; i < N; ++i)
+      scale(i) = wide(i, i) >= kSmallest ? 1 / std::sqrt(wide(i, i)) : 0.0;
     const Wide s = scale.asDiagonal() * wide * scale.asDiagonal();
     const Eigen::LDLT<Wide> scaled(s);
     const auto d = scaled.vectorD();
@@ -372,8 +379,12 @@ struct RowBlock {
     for (int i = 0; i < N; ++i)
       x.row(i) *= d(i) > N * double(std::numeric_limits<Real>::epsilon()) ? 1 / d(i) : 0.0;
     scaled.matrixU().solveInPlace(x);
-    inverse = (scale.asDiagonal() * (scaled.transpositionsP().transpose() * x) *
-               scale.asDiagonal())
+    const Wide result =
+        scale.asDiagonal() * (scaled.transpositionsP().transpose() * x) * scale.asDiagonal();
+    // An entry past Real's range (a direction of near-infinite mass) gets no impulse either:
+    // converting it would be undefined.
+    constexpr double kLargest = double(std::numeric_limits<Real>::max());
+    inverse = result.unaryExpr([](double v) { return std::abs(v) <= kLargest ? v : 0.0; })
                   .template cast<Real>();
   }
 };

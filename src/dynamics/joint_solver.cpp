@@ -346,9 +346,9 @@ void solveRows(JointConstraint& c, const JointRecord& j, JointParts& p, SolverBo
   c.lock.solve(a, b, pass.rigid);
 }
 
-// Runs f(a, b) on copies of the joint's two solver bodies (a zero body for the world or a
-// static body), and writes back the velocities of the moving ones only: a static or kinematic
-// body may be shared by joints solved at the same time.
+// Runs f(a, b) on the joint's two solver bodies: a moving body in place, anything else (a zero
+// body for the world or a static body, a kinematic body) as a copy whose writes are dropped,
+// since a static or kinematic body may be shared by joints solved at the same time.
 template <class F>
 void withBodies(const JointConstraint& c, std::vector<SolverBody>& bodies, F f) {
   // Both bodies moving (no other joint or contact of the colour touches them): in place. That

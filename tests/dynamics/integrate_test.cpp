@@ -68,11 +68,12 @@ TEST(Integrate, ImplicitGyroscopicNeverGainsEnergy) {
   EXPECT_GT(previous, 0);
 }
 
-// A light needle (moments near 1e-10 kg m^2, nearly singular) spinning at 25 rad/s at
-// h = 0.05 s: the world fuzz target's input world-micro-body-gyroscopic-nan, bit for bit. Its
-// Newton matrix J = I + h ([w] I - [I w]) is singular in float (two rows proportional), and
-// the LU's solve gave NaN (checked with the old code). The substep now keeps w, the explicit
-// step without the gyroscopic term.
+// A Newton matrix J = I + h ([w] I - [I w]) the LU cannot solve keeps w for the substep, the
+// explicit step without the gyroscopic term. First the world fuzz target's input
+// world-micro-body-gyroscopic-nan, bit for bit: a light needle (principal moments about 6e-10,
+// 6e-10 and 1e-17 kg m^2) spinning at 25 rad/s at h = 0.05 s, whose J is singular in float's
+// rounding (two rows proportional); the old code's solve gave NaN for it. Then a J singular in
+// any precision (no inertia at all: 0/0 in the LU).
 TEST(Integrate, ImplicitGyroscopicOfASingularNewtonMatrixKeepsW) {
   const Quat q(-0x1.2ec9dep-2f, -0x1.15c61ap-1f, -0x1.2b4366p-1f, 0x1.0d456cp-1f);
   const Vec3 w(0x1.a905p+3f, -0x1.307ep+3f, -0x1.3a3dp+4f);
@@ -84,4 +85,5 @@ TEST(Integrate, ImplicitGyroscopicOfASingularNewtonMatrixKeepsW) {
   if constexpr (std::is_same_v<Real, float>) {  // singular in float's rounding only
     EXPECT_EQ(out, w);
   }
+  EXPECT_EQ(implicitGyroscopic(q, Mat3::Zero(), w, Real(0.05)), w);
 }

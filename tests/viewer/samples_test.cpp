@@ -32,9 +32,9 @@ fs::path scenesDir() {
   return fs::path(root ? root : ".") / "scenes";
 }
 
-// Runs 60 frames of 1/60 s and checks every body's state and particle is finite.
-// Sixty frames at 60 Hz, fifteen under the sanitizers (a whole second of every scene was a
-// minute of their run; a quarter takes the same paths: loading, control, stepping, drawing).
+// Runs sixty frames of 1/60 s, fifteen under the sanitizers (a whole second of every scene was
+// a minute of their run; a quarter takes the same paths: loading, control, stepping, drawing),
+// and checks every body's state and particle is finite.
 void runFrames(const Sample& sample) {
   SCOPED_TRACE(sample.group + "/" + sample.name);
   Playback playback(sample.build());
