@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "bindings.h"
 #include "convert.h"
@@ -242,7 +243,7 @@ void bindCreation(py::class_<PyWorld>& world) {
       .def(
           "destroy_deformable",
           [](PyWorld& w, DeformableId id) {
-            if (w->isValid(id))
+            if (std::as_const(w)->isValid(id))  // a read: the recipe stays
               PyWorld::refuseViewed(w.deformableViews, id.index, "destroy_deformable",
                                     "its vertices");
             w->destroyDeformable(id);

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "bindings.h"
 #include "convert.h"
@@ -256,7 +257,7 @@ void bindParticles(py::module_& m) {
       .def(
           "destroy_particle_system",
           [](PyWorld& w, ParticleSystemId id) {
-            if (w->isValid(id))
+            if (std::as_const(w)->isValid(id))  // a read: the recipe stays
               PyWorld::refuseViewed(w.particleViews, id.index, "destroy_particle_system",
                                     "its particles");
             w->destroyParticleSystem(id);

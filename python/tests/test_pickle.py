@@ -107,3 +107,20 @@ def test_worlds_travel_through_dask_serialisation():
     header, frames = protocol.serialize(world, serializers=["pickle"])
     back = protocol.deserialize(header, frames)
     assert run(back, 10) == run(world, 10)
+
+
+def test_a_refused_destroy_leaves_the_world_picklable():
+    # Refused while a view is alive, the destroy changed nothing: the world still follows its
+    # scene and pickles (the check used to take the world as changed).
+    for name, systems, view_of, destroy in (
+            ("fountain", "particle_systems", "particle_positions", "destroy_particle_system"),
+            ("flag", "deformables", "deformable_positions", "destroy_deformable")):
+        world = inertia.load_scene(str(SOURCE_DIR / "scenes" / f"{name}.json"))
+        world.step()
+        target = getattr(world, systems)()[0]
+        view = getattr(world, view_of)(target)
+        with pytest.raises(ValueError, match="view"):
+            getattr(world, destroy)(target)
+        back = pickle.loads(pickle.dumps(world))
+        assert state_bytes(back) == state_bytes(world), name
+        del view
