@@ -383,11 +383,19 @@ JointPass jointPass(const DynamicsSettings& s, Real h, bool useBias) {
   return pass;
 }
 
-void prepareJoints(RigidBodyData& D, StepWorkers& workers) {
+void prepareJoints(RigidBodyData& D, std::span<const std::uint32_t> order, StepWorkers& workers) {
+  D.jointConstraints.resize(D.jointEdges.size());
   workers.parallelFor(D.jointConstraints.size(), [&](std::size_t first, std::size_t last) {
     for (std::size_t k = first; k < last; ++k) {
+      const std::size_t edge = order.empty() ? k : order[k];
       JointConstraint& c = D.jointConstraints[k];
+      c = JointConstraint{};
+      c.joint = D.edgeJoints[edge];
+      c.bodyA = D.jointEdges[edge].bodyA;
+      c.bodyB = D.jointEdges[edge].bodyB;
       const JointRecord& j = D.joints[c.joint];
+      c.lockedOnly = lockedOnly(j);
+      c.point = c.lockedOnly && j.type == JointType::Ball;
       const bool world = j.bodyA == kWorldBody;
       const Transform poseA = world ? Transform{} : D.bodies[j.bodyA].pose;
       const Vec3 comA = world ? Vec3::Zero() : D.bodies[j.bodyA].com;

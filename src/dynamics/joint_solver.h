@@ -1,7 +1,8 @@
 // Internal: the joints' solver stage, beside the contacts' in each substep (solver_stages.h):
-//   addJointConstraints  this step's joints (an awake dynamic body on either side), their
+//   addJointEdges        this step's joints (an awake dynamic body on either side), their
 //                        solver bodies and graph edges;
-//   prepareJoints        anchors, frames and spring coefficients at the step's start;
+//   prepareJoints        their constraints in colour order: anchors and frames at the step's
+//                        start;
 //   warmStartJoint / solveJoint, per joint, colour by colour with the contacts;
 //   storeJoints          impulses kept for the next step, forces, and breaking.
 // Joints are soft constraints in the soft step (Box2D v3: twice the contact stiffness, damping
@@ -9,6 +10,8 @@
 // pgs and the LCP solvers; with the LCP solvers their rows join their island's LCP
 // (appendJointLcpRows).
 #pragma once
+
+#include <span>
 
 #include "rigid_body_data.h"
 
@@ -49,12 +52,13 @@ struct JointFrame {
 void lockedRows(const JointRecord& j, const JointFrame& f, const Vec3& fallbackAxis, RowBlock& lock,
                 RowBlock::Vector& C);
 
-/// Appends this step's joint constraints and their graph edges, making solver bodies with
-/// `slot(bodyIndex)` (after the contacts', so that worlds without joints are unchanged).
+/// Appends this step's joints' graph edges and their records' indices (D.jointEdges,
+/// D.edgeJoints), making solver bodies with `slot(bodyIndex)` (after the contacts', so that
+/// worlds without joints are unchanged). prepareJoints makes their constraints.
 template <class Slot>
-void addJointConstraints(RigidBodyData& D, Slot slot) {
-  D.jointConstraints.clear();
+void addJointEdges(RigidBodyData& D, Slot slot) {
   D.jointEdges.clear();
+  D.edgeJoints.clear();
   for (std::uint32_t ji = 0; ji < D.joints.size(); ++ji) {
     const JointRecord& j = D.joints[ji];
     if (!j.alive || !j.enabled || drivenJoint(D, j)) continue;
@@ -62,18 +66,16 @@ void addJointConstraints(RigidBodyData& D, Slot slot) {
                          D.bodies[j.bodyA].awake;
     const BodyRecord& b = D.bodies[j.bodyB];
     if (!aActive && !(b.type == BodyType::Dynamic && b.awake)) continue;
-    JointConstraint& c = D.jointConstraints.emplace_back();
-    c.joint = ji;
-    c.bodyA = j.bodyA == kWorldBody ? -1 : slot(j.bodyA);
-    c.bodyB = slot(j.bodyB);
-    c.lockedOnly = lockedOnly(j);
-    c.point = c.lockedOnly && j.type == JointType::Ball;
-    D.jointEdges.push_back({c.bodyA, c.bodyB});
+    D.jointEdges.push_back({j.bodyA == kWorldBody ? -1 : slot(j.bodyA), slot(j.bodyB)});
+    D.edgeJoints.push_back(ji);
   }
 }
 
-/// Frames and anchors of the joint constraints at the step's start.
-void prepareJoints(RigidBodyData& D, StepWorkers& workers);
+/// This step's joint constraints, one per joint edge, made in place in the order `order`
+/// (edge indices: the colours' order; empty for edge order), with their frames and anchors at
+/// the step's start. Made once where they stay, so that the passes read them in sequence
+/// without a sort's copy.
+void prepareJoints(RigidBodyData& D, std::span<const std::uint32_t> order, StepWorkers& workers);
 /// Applies a joint's accumulated impulses to its bodies (rows prepared for `stamp`).
 void warmStartJoint(const RigidBodyData& D, JointConstraint& c, std::vector<SolverBody>& bodies,
                     int stamp);

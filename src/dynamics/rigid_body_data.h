@@ -343,8 +343,8 @@ struct RigidBodyData {
   UnionFind island;                     // per body slot: the islands for sleeping and waking
   std::vector<GraphEdge> contactEdges;  // per constraint: its solver bodies
   std::vector<JointConstraint> jointConstraints;  // this step's joints (in colour order)
-  std::vector<JointConstraint> sortedJoints;      // scratch of the sort by colour
-  std::vector<GraphEdge> jointEdges;              // per joint constraint: its solver bodies
+  std::vector<GraphEdge> jointEdges;              // per joint edge: its solver bodies
+  std::vector<std::uint32_t> edgeJoints;          // per joint edge: its JointRecord index
   std::vector<GraphEdge> lcpEdges;                // the contacts' edges, then the joints'
   ConstraintIslands lcpIslands;                   // the LCP solvers' islands of this step
   LcpWorkspace lcp;

@@ -374,20 +374,6 @@ void storeImpulses(Data& D, StepWorkers& workers) {
   });
 }
 
-// The joint constraints in colour order, so that each colour's pass reads them in sequence
-// (in slot order each joint of a large grid cost a cache miss or two).
-void sortJointsByColor(Data& D, StepWorkers& workers) {
-  ConstraintColoring& col = D.coloring;
-  if (D.jointConstraints.empty()) return;
-  D.sortedJoints.resize(D.jointConstraints.size());
-  workers.parallelFor(col.jointOrder.size(), [&](std::size_t first, std::size_t last) {
-    for (std::size_t k = first; k < last; ++k)
-      D.sortedJoints[k] = D.jointConstraints[col.jointOrder[k]];
-  });
-  D.jointConstraints.swap(D.sortedJoints);
-  std::iota(col.jointOrder.begin(), col.jointOrder.end(), 0u);
-}
-
 bool isLcp(const DynamicsSettings& s) {
   return s.solver.type == SolverType::LcpDantzig || s.solver.type == SolverType::LcpLemke;
 }
@@ -443,10 +429,9 @@ void prepareContacts(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
     D.contactEdges.push_back({c.bodyA, c.bodyB});
   }
   addMultibodyJoints(D);
-  addJointConstraints(D, [&](std::uint32_t bi) { return solverSlot(D, bi); });
+  addJointEdges(D, [&](std::uint32_t bi) { return solverSlot(D, bi); });
   prepareSolverBodies(D, workers);
   const Real h = dt / Real(s.substeps);
-  prepareJoints(D, workers);
   const Real hertz = std::min(tuning.hertz, Real(0.25) / h);
   const Softness soft = makeSoft(hertz, tuning.dampingRatio, h);
   const Softness staticSoft = makeSoft(2 * hertz, tuning.dampingRatio, h);
@@ -465,6 +450,7 @@ void prepareContacts(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
           prepareContact(D, s, D.constraints[k], soft, staticSoft);
       });
   if (lcp) {
+    prepareJoints(D, {}, workers);
     for (ContactConstraint& c : D.constraints) {
       const SolverBody none{};
       const SolverBody& a = c.bodyA >= 0 ? D.solverBodies[static_cast<std::size_t>(c.bodyA)] : none;
@@ -476,8 +462,11 @@ void prepareContacts(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
     D.lcpEdges.insert(D.lcpEdges.end(), D.jointEdges.begin(), D.jointEdges.end());
     groupConstraints(D.lcpEdges, D.solverBodies.size(), D.lcpIslands);
   } else {
+    // The joint constraints are made in colour order, so that each colour's pass reads them
+    // in sequence (in edge order each joint of a large grid cost a cache miss or two).
+    prepareJoints(D, D.coloring.jointOrder, workers);
+    std::iota(D.coloring.jointOrder.begin(), D.coloring.jointOrder.end(), 0u);
     // The bundles compute the masses themselves, a bundle at a time.
-    sortJointsByColor(D, workers);
     D.bundles.build(D.constraints, D.solverBodies, D.coloring, workers);
   }
   prepareMotion(D, s, h, workers);
