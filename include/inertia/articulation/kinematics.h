@@ -10,11 +10,15 @@
 namespace inertia::articulation {
 
 // Vector arguments as Eigen::Ref (any vector or segment, no copy), outside template argument
-// deduction: the scalar comes from the model.
+// deduction: the scalar comes from the model. The stride is spelt out (it is Ref's default for
+// a vector): left to the default, it is a dependent expression in these functions' mangled
+// names, which clang spells after the first Ref of the unit (in Eigen's IncompleteCholesky,
+// `VectorSx`, where the viewer's unit met one first), so a caller's name and the library's
+// explicit instantiation differed and did not link.
 template <class S>
-using ConstRef = std::type_identity_t<Eigen::Ref<const VectorX<S>>>;
+using ConstRef = std::type_identity_t<Eigen::Ref<const VectorX<S>, 0, Eigen::InnerStride<1>>>;
 template <class S>
-using Ref = std::type_identity_t<Eigen::Ref<VectorX<S>>>;
+using Ref = std::type_identity_t<Eigen::Ref<VectorX<S>, 0, Eigen::InnerStride<1>>>;
 template <class S>
 using Scalar = std::type_identity_t<S>;
 
