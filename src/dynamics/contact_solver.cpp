@@ -7,9 +7,9 @@
 #include <numeric>
 #include <utility>
 
-// The AVX2 and AVX-512 builds of the kernels need GCC's `#pragma GCC target`, which clang
-// ignores: clang builds (the fuzz preset) run the SSE2 kernels, which give the same bits.
-#if (defined(__x86_64__) || defined(__i386__)) && !defined(__clang__)
+// The AVX2 and AVX-512 builds of the kernels take their instruction set from a pragma around
+// them: GCC's `target`, or clang's attribute on each function (clang ignores GCC's pragma).
+#if defined(__x86_64__) || defined(__i386__)
 #include <immintrin.h>
 #define INERTIA_HAVE_AVX2_KERNELS 1
 #endif
@@ -72,24 +72,40 @@ namespace sse2 {
 }  // namespace sse2
 
 #ifdef INERTIA_HAVE_AVX2_KERNELS
+#ifdef __clang__
+#pragma clang attribute push(__attribute__((target("avx2"))), apply_to = function)
+#else
 #pragma GCC push_options
 #pragma GCC target("avx2")
+#endif
 namespace avx2 {
 #define INERTIA_PACK_BYTES 32
 #include "contact_kernels.inl"
 #undef INERTIA_PACK_BYTES
 }  // namespace avx2
+#ifdef __clang__
+#pragma clang attribute pop
+#else
 #pragma GCC pop_options
+#endif
 
 // AVX-512F alone: the kernels use 512-bit registers, and the set brings thirty-two of them.
+#ifdef __clang__
+#pragma clang attribute push(__attribute__((target("avx512f"))), apply_to = function)
+#else
 #pragma GCC push_options
 #pragma GCC target("avx512f")
+#endif
 namespace avx512 {
 #define INERTIA_PACK_BYTES 64
 #include "contact_kernels.inl"
 #undef INERTIA_PACK_BYTES
 }  // namespace avx512
+#ifdef __clang__
+#pragma clang attribute pop
+#else
 #pragma GCC pop_options
+#endif
 #endif
 
 namespace {
