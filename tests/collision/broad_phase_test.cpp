@@ -13,6 +13,7 @@
 
 #include "collision_test_util.h"
 #include "inertia/core/error.h"
+#include "../draws.h"
 
 using namespace inertia;
 using inertia::test::randomAabb;
@@ -99,7 +100,7 @@ TEST(BroadPhase, PairsMatchBruteForceOverRandomUpdates) {
     for (const int id : live) {
       const bool isStatic = bp.type(id) == ProxyType::Static;
       if (isStatic && unit(rng) > Real(0.01)) continue;
-      Vec3 d(step(rng), step(rng), step(rng));
+      Vec3 d = inertia::test::draw3<Vec3>([&] { return step(rng); });
       if (unit(rng) < Real(0.02)) d *= 30;
       const Aabb b{tight[id].lower + d, tight[id].upper + d};
       setTight(id, b);
@@ -252,7 +253,9 @@ TEST(BroadPhase, QueriesAndRayCastsMatchBruteForce) {
     ASSERT_EQ(visits, want.empty() ? 0 : 1);  // false stops the query at once
 
     std::uniform_real_distribution<Real> u(-25, 25);
-    Ray ray{Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)), Real(1)};
+    const auto draw = [&] { return u(rng); };
+    const Vec3 origin = inertia::test::draw3<Vec3>(draw), direction = inertia::test::draw3<Vec3>(draw);
+    Ray ray{origin, direction, Real(1)};
     std::set<int> all, wantAll;
     bp.rayCast(ray, [&](int id, Real maxFraction) {
       all.insert(id);

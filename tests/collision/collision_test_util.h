@@ -13,6 +13,7 @@
 #include "inertia/collision/queries.h"
 #include "inertia/core/types.h"
 #include "inertia/geometry/geometry.h"
+#include "../draws.h"
 
 namespace inertia::test {
 
@@ -22,11 +23,11 @@ constexpr double kEps = std::numeric_limits<Real>::epsilon();
 
 inline Quat randomRotation(std::mt19937_64& rng) {
   std::normal_distribution<double> n;
-  return Quat(Real(n(rng)), Real(n(rng)), Real(n(rng)), Real(n(rng))).normalized();
+  return draw4<Quat>([&] { return Real(n(rng)); }).normalized();
 }
 inline Vec3 randomVec(std::mt19937_64& rng, double lo, double hi) {
   std::uniform_real_distribution<double> u(lo, hi);
-  return Vec3(Real(u(rng)), Real(u(rng)), Real(u(rng)));
+  return draw3<Vec3>([&] { return Real(u(rng)); });
 }
 inline double uniform(std::mt19937_64& rng, double lo, double hi) {
   return std::uniform_real_distribution<double>(lo, hi)(rng);
@@ -45,7 +46,9 @@ inline ConvexHull randomHull(std::mt19937_64& rng, int n, double size) {
 /// A random box: centre in [-extent, extent]^3, half extents in [0.05, maxHalf].
 inline Aabb randomAabb(std::mt19937& rng, Real extent, Real maxHalf) {
   std::uniform_real_distribution<Real> c(-extent, extent), h(Real(0.05), maxHalf);
-  return Aabb::fromCenterHalfExtents(Vec3(c(rng), c(rng), c(rng)), Vec3(h(rng), h(rng), h(rng)));
+  // GCC evaluated the second argument first.
+  const Vec3 half = draw3<Vec3>([&] { return h(rng); });
+  return Aabb::fromCenterHalfExtents(draw3<Vec3>([&] { return c(rng); }), half);
 }
 /// The eight corners of the box of half extents h, centred on the origin.
 inline std::vector<Vec3> boxCorners(const Vec3& h) {

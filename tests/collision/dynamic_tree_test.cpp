@@ -14,6 +14,7 @@
 
 #include "collision_test_util.h"
 #include "inertia/core/error.h"
+#include "../draws.h"
 
 using namespace inertia;
 using inertia::test::randomAabb;
@@ -113,7 +114,7 @@ TEST(DynamicTree, PairsMatchBruteForceOverRandomUpdates) {
     }
     // Move everything: mostly small steps, sometimes teleports.
     for (const int id : live) {
-      Vec3 d(step(rng), step(rng), step(rng));
+      Vec3 d = inertia::test::draw3<Vec3>([&] { return step(rng); });
       if (unit(rng) < Real(0.02)) d *= 30;
       Aabb b{tight[id].lower + d, tight[id].upper + d};
       setTight(id, b);
@@ -242,8 +243,9 @@ TEST(DynamicTree, RayCastsMatchBruteForce) {
   std::uniform_real_distribution<Real> c(-25, 25);
   std::size_t visited = 0, clippedHits = 0;
   for (int q = 0; q < 300; ++q) {
-    Ray ray{.origin = Vec3(c(rng), c(rng), c(rng)),
-            .direction = Vec3(c(rng), c(rng), c(rng)),
+    const auto draw = [&] { return c(rng); };
+    Ray ray{.origin = inertia::test::draw3<Vec3>(draw),
+            .direction = inertia::test::draw3<Vec3>(draw),
             .maxFraction = Real(1)};
     if (q % 10 == 0) ray.direction.y() = 0;  // axis-parallel slabs
     if (q % 20 == 0) ray.direction.z() = 0;

@@ -277,7 +277,8 @@ TEST(Gjk, TriangleCylinderMatchesConvexMinimisation) {
     const Cylinder cyl{Real(uniform(rng, 0.2, 1)), Real(uniform(rng, 0.2, 1))};
     const Transform pc = randomPose(rng, 1);
     std::array<Vec3, 3> tri;
-    const Vec3 centre = pc.p + Real(uniform(rng, 1.6, 3)) * randomVec(rng, -1, 1).normalized();
+    const Vec3 along = randomVec(rng, -1, 1).normalized();  // before the scale, as GCC drew them
+    const Vec3 centre = pc.p + Real(uniform(rng, 1.6, 3)) * along;
     for (auto& p : tri) p = centre + randomVec(rng, -0.8, 0.8);
     // Oracle: the distance to the cylinder is convex and C1 outside it, so a pattern search over
     // the triangle's barycentric coordinates (directions spanning its edges) finds the minimum.

@@ -200,9 +200,10 @@ TEST(TimeOfImpact, RotatingPairsAreConservative) {
     const Collider b{Shape(randomHull(rng, 14, 0.7))};
     // A flies past or into B while both spin (up to ~2.5 rad over the sweep).
     const Vec3 start = randomVec(rng, -4, 4);
-    const Sweep sa{
-        {start, randomRotation(rng)},
-        {-start * Real(uniform(rng, 0.2, 1.2)) + randomVec(rng, -1, 1), randomRotation(rng)}};
+    const Quat turnStart = randomRotation(rng);
+    const Vec3 jitter = randomVec(rng, -1, 1);  // before the scale, as GCC drew them
+    const Real scale = Real(uniform(rng, 0.2, 1.2));
+    const Sweep sa{{start, turnStart}, {-start * scale + jitter, randomRotation(rng)}};
     const Sweep sb{randomPose(rng, 0.3), randomPose(rng, 0.3)};
     if (separationAt(a, sa, b, sb, 0) < 0.01) continue;
     const ToiResult r = timeOfImpact(a, sa, b, sb, settings);

@@ -43,7 +43,8 @@ TEST(Triangle, RayMatchesPlaneCrossingAndBarycentrics) {
   for (int k = 0; k < 20000; ++k) {
     const Vec3 a = randomVec(rng, -1, 1), b = randomVec(rng, -1, 1), c = randomVec(rng, -1, 1);
     const Vec3 o = randomVec(rng, -2, 2);
-    const Vec3 d = Real(uniform(rng, 0.5, 1.5)) * ((a + b + c) / 3 + randomVec(rng, -0.5, 0.5) - o);
+    const Vec3 offset = randomVec(rng, -0.5, 0.5);  // before the scale, as GCC drew them
+    const Vec3 d = Real(uniform(rng, 0.5, 1.5)) * ((a + b + c) / 3 + offset - o);
     const Real t = intersectRayTriangle(o, d, 1, a, b, c);
     const Vec3d n = (toD(b) - toD(a)).cross(toD(c) - toD(a));
     const double rate = n.dot(toD(d));
@@ -119,7 +120,8 @@ TEST(Robustness, NoNaNOnDegenerateAndRandomInputs) {
       const Vec3 p = pose.apply(snapped(rng));
       const PointQuery q = queryPoint(c, pose, p);
       ASSERT_TRUE(finite(q)) << shapeTypeName(c.type()) << " at " << p.transpose();
-      Vec3 d = snapped(rng) - snapped(rng);
+      const Vec3 to = snapped(rng);  // the right operand first, as GCC drew it
+      Vec3 d = snapped(rng) - to;
       if (k % 7 == 0) d = Vec3(d.x(), 0, 0);  // axis-parallel, along faces
       const Ray ray{p, pose.rotate(d), Real(k % 3 == 0 ? 1 : 2)};
       const auto hit = castRay(c, pose, ray);

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "inertia/core/error.h"
+#include "../draws.h"
 
 using namespace inertia;
 
@@ -25,7 +26,7 @@ TEST(UniformGrid, NearQueriesCoverBruteForceAndVisitEachPointOnce) {
   grid.build(xs, cell);
   std::vector<int> visits(n);
   for (int q = 0; q < 500; ++q) {
-    const Vec3 p = q % 2 ? Vec3(tight(rng), tight(rng), tight(rng)) : Vec3(wide(rng), wide(rng), wide(rng));
+    const Vec3 p = q % 2 ? inertia::test::draw3<Vec3>([&] { return tight(rng); }) : inertia::test::draw3<Vec3>([&] { return wide(rng); });
     std::fill(visits.begin(), visits.end(), 0);
     grid.forEachNear(p, [&](std::uint32_t j) { ++visits[j]; });
     for (std::size_t j = 0; j < n; ++j) {

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "inertia/core/error.h"
+#include "../draws.h"
 
 using namespace inertia;
 
@@ -19,7 +20,8 @@ TEST(Skew, MatchesCrossProduct) {
   std::mt19937 rng(1);
   std::uniform_real_distribution<Real> u(-10, 10);
   for (int i = 0; i < 100; ++i) {
-    Vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng));
+    const auto draw = [&] { return u(rng); };
+    Vec3 a = inertia::test::draw3<Vec3>(draw), b = inertia::test::draw3<Vec3>(draw);
     // Each component is a difference of two products of magnitude <= 100: error ~ 2 * 100 eps.
     EXPECT_LE((skew(a) * b - a.cross(b)).norm(), 400 * kEps);
     EXPECT_LE((skew(a) + skew(a).transpose()).norm(), 0);  // exactly antisymmetric
@@ -59,7 +61,7 @@ TEST(Rotation, RotationVectorRoundTrips) {
   std::mt19937 rng(2);
   std::uniform_real_distribution<Real> u(-3, 3);
   for (int i = 0; i < 100; ++i) {
-    Vec3 v(u(rng), u(rng), u(rng));
+    Vec3 v = inertia::test::draw3<Vec3>([&] { return u(rng); });
     if (v.norm() >= std::numbers::pi_v<Real>) continue;  // the principal branch is |v| < pi
     EXPECT_LE((rotationVector(quatFromRotationVector(v)) - v).norm(), 100 * kEps);
   }

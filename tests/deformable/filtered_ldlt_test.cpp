@@ -11,6 +11,7 @@
 #include "deformable/filtered_ldlt.h"
 #include "inertia/deformable/deformable.h"
 #include "inertia/deformable/generators.h"
+#include "../draws.h"
 
 namespace inertia {
 namespace {
@@ -49,7 +50,8 @@ TEST(FilteredDirectSolve, SolvesTheFilteredSystem) {
   std::vector<detail::SymmetricBlock> blocks(m.springs.size());
   std::vector<Matrix3d> dense(m.springs.size());
   for (std::size_t k = 0; k < blocks.size(); ++k) {
-    const Eigen::Vector3d a(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng));
+    const auto draw = [&] { return u(rng); };
+    const Eigen::Vector3d a = inertia::test::draw3<Eigen::Vector3d>(draw), c = inertia::test::draw3<Eigen::Vector3d>(draw);
     dense[k] = 10 * (a * a.transpose()) + 0.1 * (c * c.transpose());
     const Matrix3d& d = dense[k];
     blocks[k] = {d(0, 0), d(1, 1), d(2, 2), d(0, 1), d(0, 2), d(1, 2)};
@@ -61,7 +63,7 @@ TEST(FilteredDirectSolve, SolvesTheFilteredSystem) {
     if (i % 2) {
       projection[i].setZero();
     } else {
-      const Eigen::Vector3d normal = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+      const Eigen::Vector3d normal = inertia::test::draw3<Eigen::Vector3d>([&] { return u(rng); }).normalized();
       projection[i] -= normal * normal.transpose();
     }
   }

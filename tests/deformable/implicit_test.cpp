@@ -11,6 +11,7 @@
 #include "deformable/spring_forces.h"
 #include "inertia/deformable/deformable.h"
 #include "inertia/deformable/generators.h"
+#include "../draws.h"
 
 namespace inertia {
 namespace {
@@ -65,7 +66,7 @@ ClothCase stretchedCloth() {
     const Eigen::Vector3d p = s.model.positions[i].cast<double>() * 1.08;
     s.x.segment<3>(3 * Eigen::Index(i)) =
         Eigen::Vector3d(Real(p.x()), Real(p.y() + 0.001 * u(rng)), Real(p.z()));
-    s.v.segment<3>(3 * Eigen::Index(i)) = Eigen::Vector3d(Real(u(rng)), Real(u(rng)), Real(u(rng)));
+    s.v.segment<3>(3 * Eigen::Index(i)) = inertia::test::draw3<Eigen::Vector3d>([&] { return Real(u(rng)); });
   }
   s.pinned.assign(n, 0);
   s.pinned[0] = s.pinned[4] = 1;

@@ -10,6 +10,7 @@
 #include "inertia/deformable/deformable.h"
 #include "inertia/deformable/generators.h"
 #include "inertia/ode/method.h"
+#include "../draws.h"
 
 namespace inertia {
 namespace {
@@ -42,12 +43,12 @@ TEST(SpringJacobian, StretchedSpringMatchesFiniteDifferences) {
   std::uniform_real_distribution<double> u(-1, 1);
   for (int trial = 0; trial < 20; ++trial) {
     const Spring s{0, 1, Real(0.5), Real(300 + 100 * trial), Real(2), SpringKind::Stretch};
-    const Vector3d xb(u(rng), u(rng), u(rng));
-    const Vector3d dir = Vector3d(u(rng), u(rng), u(rng)).normalized();
+    const Vector3d xb = inertia::test::draw3<Vector3d>([&] { return u(rng); });
+    const Vector3d dir = inertia::test::draw3<Vector3d>([&] { return u(rng); }).normalized();
     const Vector3d xa = xb + dir * (0.5 * (1.05 + 0.5 * (u(rng) + 1)));  // stretched: l > L
     // The damping force depends on x through u; B-W leave that term out, so compare dF/dx at
     // zero relative velocity, where it vanishes.
-    const Vector3d v = Vector3d(u(rng), u(rng), u(rng));
+    const Vector3d v = inertia::test::draw3<Vector3d>([&] { return u(rng); });
     const detail::SpringJacobian j = detail::springJacobian(s, xa, xb);
     const Matrix3d fx = finiteDifference(s, xa, xb, v, v, false);
     const Matrix3d fv = finiteDifference(s, xa, xb, v, v, true);
@@ -90,7 +91,7 @@ TEST(DeformableMomentum, SpringsAloneConserveMomentum) {
     std::mt19937 rng(3);
     std::uniform_real_distribution<Real> u(-1, 1);
     m.velocities.resize(m.vertexCount());
-    for (Vec3& v : m.velocities) v = Vec3(u(rng), u(rng), u(rng));
+    for (Vec3& v : m.velocities) v = inertia::test::draw3<Vec3>([&] { return u(rng); });
     Deformable d({.integrator = method, .solverTolerance = 1e-12}, m);
     auto momentum = [&] {
       Eigen::Vector3d p = Eigen::Vector3d::Zero();

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "../epsilon.h"
+#include "../draws.h"
 
 using namespace inertia;
 using namespace inertia::detail;
@@ -63,7 +64,7 @@ TEST(ContactSolver, TangentBasisIsOrthonormalAndRightHanded) {
   std::normal_distribution<double> g;
   std::vector<Vec3> normals{Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ(), -Vec3::UnitZ(),
                             Vec3(0, 0, -1 + 1e-7).normalized()};
-  for (int i = 0; i < 1000; ++i) normals.push_back(Vec3(Real(g(rng)), Real(g(rng)), Real(g(rng))).normalized());
+  for (int i = 0; i < 1000; ++i) normals.push_back(inertia::test::draw3<Vec3>([&] { return Real(g(rng)); }).normalized());
   for (const Vec3& n : normals) {
     const auto t = tangentBasis(n);
     EXPECT_NEAR(t[0].norm(), 1, 16 * kRealEps);

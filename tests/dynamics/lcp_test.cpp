@@ -15,6 +15,7 @@
 #include <random>
 
 #include "../epsilon.h"
+#include "../draws.h"
 
 using namespace inertia::detail;
 using Eigen::MatrixXd;
@@ -234,9 +235,9 @@ ContactProblem randomContacts(int k, std::mt19937& rng) {
   VectorXd v(6 * k);
   for (int i = 0; i < k; ++i) {
     const Eigen::Matrix3d R =
-        Eigen::AngleAxisd(3 * u(rng), Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized())
+        Eigen::AngleAxisd(3 * u(rng), inertia::test::draw3<Eigen::Vector3d>([&] { return u(rng); }).normalized())
             .toRotationMatrix();
-    const Eigen::Vector3d I(pos(rng), pos(rng), pos(rng));
+    const Eigen::Vector3d I = inertia::test::draw3<Eigen::Vector3d>([&] { return pos(rng); });
     Minv.block(6 * i, 6 * i, 3, 3) = Eigen::Matrix3d::Identity() / pos(rng);
     Minv.block(6 * i + 3, 6 * i + 3, 3, 3) = R * I.cwiseInverse().asDiagonal() * R.transpose();
     for (int c = 0; c < 6; ++c) v[6 * i + c] = 0.3 * u(rng);
@@ -247,10 +248,13 @@ ContactProblem randomContacts(int k, std::mt19937& rng) {
   out.lcp.hi = VectorXd::Zero(n);
   for (int p = 0; p < pts; ++p) {
     const int upper = p / 2, lower = upper - 1;  // bodies; -1: the ground
-    const Eigen::Vector3d tilt(0.35 * u(rng), 1, 0.35 * u(rng));
+    // z drawn before x, as draw3 does (tests/draws.h).
+    const double tz = u(rng), tx = u(rng);
+    const Eigen::Vector3d tilt(0.35 * tx, 1, 0.35 * tz);
     const Eigen::Vector3d nrm = tilt.normalized();
     const Eigen::Vector3d t1 = nrm.unitOrthogonal(), t2 = nrm.cross(t1);
-    const Eigen::Vector3d rB(0.5 * u(rng), -0.5, 0.5 * u(rng)), rA(rB.x(), 0.5, rB.z());
+    const double rz = u(rng), rx = u(rng);
+    const Eigen::Vector3d rB(0.5 * rx, -0.5, 0.5 * rz), rA(rB.x(), 0.5, rB.z());
     const Eigen::Vector3d dirs[3] = {nrm, t1, t2};
     for (int d = 0; d < 3; ++d) {
       const int row = 3 * p + d;

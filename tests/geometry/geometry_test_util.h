@@ -11,6 +11,7 @@
 
 #include "inertia/core/types.h"
 #include "inertia/geometry/geometry.h"
+#include "../draws.h"
 
 namespace inertia::test {
 
@@ -22,15 +23,15 @@ constexpr double kEps = std::numeric_limits<Real>::epsilon();
 
 inline Quat randomRotation(std::mt19937_64& rng) {
   std::normal_distribution<double> n;
-  return Quat(Real(n(rng)), Real(n(rng)), Real(n(rng)), Real(n(rng))).normalized();
+  return draw4<Quat>([&] { return Real(n(rng)); }).normalized();
 }
 inline Vec3 randomVec(std::mt19937_64& rng, double lo, double hi) {
   std::uniform_real_distribution<double> u(lo, hi);
-  return Vec3(Real(u(rng)), Real(u(rng)), Real(u(rng)));
+  return draw3<Vec3>([&] { return Real(u(rng)); });
 }
 inline Vec3d randomUnit(std::mt19937_64& rng) {
   std::normal_distribution<double> n;
-  return Vec3d(n(rng), n(rng), n(rng)).normalized();
+  return draw3<Vec3d>([&] { return n(rng); }).normalized();
 }
 
 /// Points on a surface, and the sampling resolution: every surface point lies within
@@ -153,7 +154,7 @@ inline MonteCarlo monteCarlo(const std::function<bool(const Vec3d&)>& inside, co
   Vec3d s1 = Vec3d::Zero(), q1 = Vec3d::Zero();
   Mat3d s2 = Mat3d::Zero(), q2 = Mat3d::Zero();
   for (int i = 0; i < n; ++i) {
-    const Vec3d x = lo + (hi - lo).cwiseProduct(Vec3d(u(rng), u(rng), u(rng)));
+    const Vec3d x = lo + (hi - lo).cwiseProduct(draw3<Vec3d>([&] { return u(rng); }));
     if (!inside(x)) continue;
     s0 += 1;
     q0 += 1;

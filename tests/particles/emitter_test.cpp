@@ -119,7 +119,7 @@ TEST(Emitter, RejectsBadSettings) {
   EXPECT_THROW(Emitter({.direction = Vec3::Zero()}), InvalidArgument);
   EXPECT_THROW(Emitter({.speed = {3, 1}}), InvalidArgument);
   EXPECT_THROW(Emitter({.lifetime = {0, 1}}), InvalidArgument);
-  EXPECT_THROW(Emitter({.mass = {std::nan(""), 1}}), InvalidArgument);
+  EXPECT_THROW(Emitter({.mass = {std::numeric_limits<Real>::quiet_NaN(), 1}}), InvalidArgument);
   EXPECT_THROW(Emitter({.shape = EmitterShape::MeshSurface}), InvalidArgument);
   EXPECT_NO_THROW(Emitter({.lifetime = {std::numeric_limits<Real>::infinity(),
                                         std::numeric_limits<Real>::infinity()}}));

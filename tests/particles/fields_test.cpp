@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "inertia/core/error.h"
+#include "../draws.h"
 
 using namespace inertia;
 
@@ -74,7 +75,7 @@ TEST(Fields, TurbulenceIsDivergenceFree) {
   std::uniform_real_distribution<Real> u(-5, 5);
   const Real d = Real(1e-2);
   for (int i = 0; i < 50; ++i) {
-    const Vec3 x(u(rng), u(rng), u(rng));
+    const Vec3 x = inertia::test::draw3<Vec3>([&] { return u(rng); });
     Real divergence = 0, gradient = 0;
     for (int k = 0; k < 3; ++k) {
       Vec3 e = Vec3::Zero();
