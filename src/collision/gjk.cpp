@@ -383,6 +383,11 @@ void refineRoundedNormal(const ConvexProxy& a, const ConvexProxy& b, const GjkRe
   if (!h.overlapping) return;
   const EpaResult e = epa(a, moved, h.simplex);
   if (!e.converged) return;
+  // The shift can make another face the shallowest: a core just outside one face of a box and
+  // just inside the next one's plane gave that next face's normal, a right angle off. The
+  // cores' distance is the largest gap over the directions, so EPA's normal replaces n only
+  // where its gap on the unmoved cores is the larger.
+  if (!(e.normal.dot(b.support(-e.normal) - a.support(e.normal)) > gap)) return;
   out.normal = e.normal;
   out.pointA = e.pointA + a.radius * e.normal;
   out.pointB = out.pointA - depth * e.normal;

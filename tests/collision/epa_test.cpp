@@ -167,6 +167,32 @@ TEST(Epa, SphereInsideBox) {
   EXPECT_GT(inside, 300);
 }
 
+// A case clang's draw order gave SphereInsideBox (k = 1819, before tests/draws.h), bit for bit:
+// the centre lies 11.5 mm outside the box's +z face and 0.74 mm inside the plane of its -y
+// face. GJK's normal looked inaccurate, and the fallback (EPA on the box moved into the sphere's
+// centre by a thousandth of the size, 2.2 mm) found the -y face shallower: a normal a right angle
+// off with the right depth. The normal must be the distance field's gradient.
+TEST(Epa, SphereCentreJustOutsideOneFaceKeepsThatFacesNormal) {
+  const Box box{Vec3(Real(0x1.0a796cp+0), Real(0x1.759eeap-2), Real(0x1.1d4f22p-1))};
+  const Sphere sphere{Real(0x1.ef50fp-2)};
+  // The rotation as drawn, a unit quaternion to float's precision; double normalises it again
+  // (its depth is then exact to double's precision, not float's).
+  const Quat drawn(Real(0x1.1c5c48p-3), Real(-0x1.c0daaap-1), Real(-0x1.447102p-2),
+                   Real(0x1.565f1cp-2));
+  const Transform pb{Vec3(Real(0x1.48305cp-1), Real(-0x1.f26462p-2), Real(0x1.a95e5p-1)),
+                     sizeof(Real) == 4 ? drawn : drawn.normalized()};
+  const Transform ps{Vec3(Real(0x1.c72f4p-2), Real(0x1.ab345cp-3), Real(0x1.13b638p-2)),
+                     Quat::Identity()};
+  const Sdf s = sdf(box, toLocal(pb, ps.p));
+  ASSERT_NEAR(s.distance, 0.0115, 1e-4);  // outside, through the +z face
+  const auto p = penetration(Collider(sphere), ps, Collider(box), pb);
+  ASSERT_TRUE(p.has_value());
+  EXPECT_NEAR(p->depth, sphere.radius - s.distance, depthTol(4));
+  const Vec3d n = -rotateD(pb, s.gradient);
+  EXPECT_LE((toD(p->normal) - n).norm(), 1e-3)
+      << "normal (box frame) " << (pb.q.conjugate() * p->normal).transpose();
+}
+
 TEST(Epa, RandomHullsMatchSeparatingAxisMinimum) {
   std::mt19937_64 rng(14);
   double worst = 0;
