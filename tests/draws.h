@@ -1,8 +1,13 @@
-// Random vectors drawn in a fixed order. `Vec3(u(rng), u(rng), u(rng))` leaves the order of the
-// three draws to the compiler (function arguments are unsequenced): GCC draws z first, clang x,
-// so the two tested different cases. These helpers draw in GCC's order, last coordinate first:
-// every compiler tests the cases the tests were written and checked with.
+// Random vectors and rotations drawn in a fixed order, shared by the collision and geometry
+// tests. `Vec3(u(rng), u(rng), u(rng))` leaves the order of the three draws to the compiler
+// (function arguments are unsequenced): GCC draws z first, clang x, so the two tested
+// different cases. These helpers draw in GCC's order, last coordinate first: every compiler
+// tests the cases the tests were written and checked with.
 #pragma once
+
+#include <random>
+
+#include "inertia/core/types.h"
 
 namespace inertia::test {
 
@@ -23,6 +28,18 @@ V draw4(Draw&& draw) {
   const auto x = draw();
   const auto w = draw();
   return V(w, x, y, z);
+}
+
+/// A uniformly random rotation (a normalised Gaussian quaternion).
+inline Quat randomRotation(std::mt19937_64& rng) {
+  std::normal_distribution<double> n;
+  return draw4<Quat>([&] { return Real(n(rng)); }).normalized();
+}
+
+/// A vector with coordinates uniform in [lo, hi).
+inline Vec3 randomVec(std::mt19937_64& rng, double lo, double hi) {
+  std::uniform_real_distribution<double> u(lo, hi);
+  return draw3<Vec3>([&] { return Real(u(rng)); });
 }
 
 }  // namespace inertia::test

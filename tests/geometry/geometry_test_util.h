@@ -21,14 +21,6 @@ constexpr double kPi = std::numbers::pi;
 /// Machine epsilon of Real: float-build tolerances scale with it.
 constexpr double kEps = std::numeric_limits<Real>::epsilon();
 
-inline Quat randomRotation(std::mt19937_64& rng) {
-  std::normal_distribution<double> n;
-  return draw4<Quat>([&] { return Real(n(rng)); }).normalized();
-}
-inline Vec3 randomVec(std::mt19937_64& rng, double lo, double hi) {
-  std::uniform_real_distribution<double> u(lo, hi);
-  return draw3<Vec3>([&] { return Real(u(rng)); });
-}
 inline Vec3d randomUnit(std::mt19937_64& rng) {
   std::normal_distribution<double> n;
   return draw3<Vec3d>([&] { return n(rng); }).normalized();
