@@ -30,6 +30,12 @@ V draw4(Draw&& draw) {
   return V(w, x, y, z);
 }
 
+/// A rotation drawn in float, kept as drawn for a case reproduced bit for bit from its printed
+/// floats; a unit quaternion to float's precision only, so double normalises it again.
+inline Quat unitAsDrawn(const Quat& drawn) {
+  return sizeof(Real) == 4 ? drawn : Quat(drawn.normalized());
+}
+
 /// A uniformly random rotation (a normalised Gaussian quaternion).
 inline Quat randomRotation(std::mt19937_64& rng) {
   std::normal_distribution<double> n;

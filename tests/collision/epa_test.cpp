@@ -175,12 +175,10 @@ TEST(Epa, SphereInsideBox) {
 TEST(Epa, SphereCentreJustOutsideOneFaceKeepsThatFacesNormal) {
   const Box box{Vec3(Real(0x1.0a796cp+0), Real(0x1.759eeap-2), Real(0x1.1d4f22p-1))};
   const Sphere sphere{Real(0x1.ef50fp-2)};
-  // The rotation as drawn, a unit quaternion to float's precision; double normalises it again
-  // (its depth is then exact to double's precision, not float's).
-  const Quat drawn(Real(0x1.1c5c48p-3), Real(-0x1.c0daaap-1), Real(-0x1.447102p-2),
-                   Real(0x1.565f1cp-2));
+  // The rotation as drawn (its depth is then exact to double's precision in double).
   const Transform pb{Vec3(Real(0x1.48305cp-1), Real(-0x1.f26462p-2), Real(0x1.a95e5p-1)),
-                     sizeof(Real) == 4 ? drawn : drawn.normalized()};
+                     unitAsDrawn(Quat(Real(0x1.1c5c48p-3), Real(-0x1.c0daaap-1),
+                                      Real(-0x1.447102p-2), Real(0x1.565f1cp-2)))};
   const Transform ps{Vec3(Real(0x1.c72f4p-2), Real(0x1.ab345cp-3), Real(0x1.13b638p-2)),
                      Quat::Identity()};
   const Sdf s = sdf(box, toLocal(pb, ps.p));
