@@ -2,7 +2,9 @@
 // default 10 iterations) and, for the chains, ODE (dWorldQuickStep with its default 20
 // iterations) in the same run, the peers on one thread, sleeping off in all, 600 steps of 1/60 s
 // (--steps N for fewer). Inertia runs with its default settings (soft step, 4 substeps, 4
-// iterations + 1 relax pass) at 1 thread beside them, then at 2 threads and all cores (or the
+// iterations + 1 relax pass, joints at 120 Hz) at 1 thread beside them, and for the scenes
+// without contacts also with Box2D v3's (1 iteration + 1 relax pass, joints at 60 Hz); then
+// with its defaults at 2 threads and all cores (or the
 // counts of --threads 1,2,16), with its speed-up over 1 thread and a check that every count ends
 // with the same bits. The scenes come from the shared builders' Assembly descriptions and are
 // built from the same description in every engine:
@@ -138,8 +140,14 @@ Anchors anchorsOf(const AssemblyJoint& j) {
 using bench::bt;
 using bench::onlyShape;
 
-Result runInertia(const Scene& scene, int threads) {
-  World world({.threads = threads, .sleeping = false});
+// Box2D v3's solver settings: one iteration and one relax pass a substep, joints at 60 Hz
+// (twice its 30 Hz contacts), damping ratio 2. Its joint_grid figure is for these.
+SolverSettings box2dSolver() {
+  return {.iterations = 1, .relaxIterations = 1, .jointHertz = 60, .jointDampingRatio = 2};
+}
+
+Result runInertia(const Scene& scene, int threads, const SolverSettings& solver = {}) {
+  World world({.solver = solver, .threads = threads, .sleeping = false});
   if (scene.ground) {
     const BodyId ground = world.createBody({.type = BodyType::Static});
     world.addShape(ground, Plane{Vec3::UnitY(), 0}, material());
@@ -414,6 +422,9 @@ int main(int argc, char** argv) {
     std::vector<Result> runs;
     runs.push_back(runInertia(scene, 1));
     printRow(scene, "Inertia (defaults)", runs[0]);
+    if (!scene.ground)
+      printRow(scene, "Inertia (Box2D's solver: 1 it. + 1 relax, joints 60 Hz)",
+               runInertia(scene, 1, box2dSolver()));
     printRow(scene,
              scene.ball == BulletBall::ConeTwist ? "Bullet SI (10 it.; cone-twist, hinge)"
                                                  : "Bullet SI (10 it.; point-to-point)",

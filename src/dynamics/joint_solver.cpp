@@ -12,10 +12,6 @@ namespace inertia::detail {
 
 namespace {
 
-// Box2D v3's joint softness in the soft step: twice the contacts' stiffness, damping ratio 2.
-constexpr Real kJointHertzScale = 2;
-constexpr Real kJointDampingRatio = 2;
-
 using Frame = JointFrame;
 
 // A joint's geometry in the current substep, from its bodies' motion since the step's start.
@@ -375,8 +371,8 @@ JointPass jointPass(const DynamicsSettings& s, Real h, bool useBias) {
   if (!useBias) {
     pass.rigid = {0, 1, 0};
   } else if (s.solver.type == SolverType::SoftStep) {
-    const Real hertz = std::min(s.contact.hertz, Real(0.25) / h);
-    pass.rigid = makeSoft(kJointHertzScale * hertz, kJointDampingRatio, h);
+    const Real hertz = std::min(s.solver.jointHertz, Real(0.5) / h);
+    pass.rigid = makeSoft(hertz, s.solver.jointDampingRatio, h);
   } else {
     pass.rigid = {s.contact.baumgarte * pass.invH, 1, 0};
   }

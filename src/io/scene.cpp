@@ -33,7 +33,7 @@ std::string integratorNames() {
 }
 
 void readSolver(const Node& n, SolverSettings& s) {
-  n.requireObject({"type", "iterations", "relax_iterations"});
+  n.requireObject({"type", "iterations", "relax_iterations", "joint_hertz", "joint_damping_ratio"});
   if (n.has("type")) {
     Node t = n.at("type");
     if (!solverFromName(t.string(), s.type))
@@ -42,6 +42,10 @@ void readSolver(const Node& n, SolverSettings& s) {
   if (n.has("iterations")) s.iterations = int(n.at("iterations").integer(1, 1000));
   if (n.has("relax_iterations"))
     s.relaxIterations = int(n.at("relax_iterations").integer(0, 1000));
+  if (n.has("joint_hertz"))
+    s.jointHertz = Real(n.at("joint_hertz").number(0, 1e6, /*openLo=*/true));
+  if (n.has("joint_damping_ratio"))
+    s.jointDampingRatio = Real(n.at("joint_damping_ratio").number(0, 1e6));
 }
 
 void readWorld(const Node& n, WorldSettings& w) {

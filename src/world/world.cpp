@@ -21,6 +21,10 @@ void validate(const WorldSettings& s) {
           "WorldSettings::solver.iterations must be in 1..1000");
   require(s.solver.relaxIterations >= 0 && s.solver.relaxIterations <= 1000,
           "WorldSettings::solver.relaxIterations must be in 0..1000");
+  require(std::isfinite(s.solver.jointHertz) && s.solver.jointHertz > 0,
+          "WorldSettings::solver.jointHertz must be finite and > 0 (Hz)");
+  require(std::isfinite(s.solver.jointDampingRatio) && s.solver.jointDampingRatio >= 0,
+          "WorldSettings::solver.jointDampingRatio must be finite and >= 0");
   validate(s.contact);
   require(s.threads >= 0 && s.threads <= 1024, "WorldSettings::threads must be in 0..1024");
 }

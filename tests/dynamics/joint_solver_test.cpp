@@ -329,6 +329,29 @@ TEST(JointBall, ReactionIsTheWeightAndBreaksAboveItsThreshold) {
   }
 }
 
+// A soft row is a spring of the joint's stiffness: a sphere hanging at rest from a ball joint
+// at its centre (no lever: K = 1/m) sags by g / (2 pi jointHertz)^2. In the soft step's steady
+// state the warm start carries the weight (m g h a substep) and the solve's soft impulse
+// -s m (bias C) - t lambda vanishes at C = -t g h / (s bias) = -g / omega^2 exactly (Box2D
+// v3's coefficients); the overdamped approach (damping ratio 2, slowest rate 0.27 omega) is
+// complete within a second. So the sag's error is float's rounding of the coefficients (1e-7
+// relative measured): 1e-5 is a hundred ulps. 120 Hz is the cap at 4 substeps of 1/60 s.
+TEST(JointBall, SagAtRestIsTheSoftRowsSpringDeflection) {
+  for (Real hertz : {Real(120), Real(60), Real(30)}) {
+    WorldSettings settings = quietWorld();
+    settings.solver.jointHertz = hertz;
+    World world(settings);
+    const BodyId bob = world.createBody({});
+    world.addShape(bob, Sphere{Real(0.1)});
+    world.createJoint(BallJointSettings{.bodyB = bob});
+    for (int i = 0; i < 120; ++i) world.step(kDt);
+    const double omega = 2 * std::numbers::pi * double(hertz);
+    const double sag = double(kG) / (omega * omega);
+    EXPECT_NEAR(-world.transform(bob).p.y(), sag, 1e-5 * sag) << hertz;
+    EXPECT_NEAR(world.transform(bob).p.x(), 0, 1e-5 * sag);
+  }
+}
+
 // A light bead welded to the world through a far anchor. At a lever 100 times its radius (K's
 // condition, lever^2 / radius of gyration^2, about 2.5e4) the weld carries its weight, within
 // the 1% of the ball joint's reaction test above. At 100 km (2 mg, condition 1e17, beyond

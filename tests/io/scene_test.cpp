@@ -47,7 +47,8 @@ TEST(Scene, NamesNeedBeUniqueOnlyAmongTheirKind) {
 TEST(Scene, ReadsEveryWorldKey) {
   io::Scene s = parseScene(R"({
     "world": { "gravity": [0, 0, -3.5], "dt": 0.01, "substeps": 2,
-               "solver": { "type": "pgs", "iterations": 20 },
+               "solver": { "type": "pgs", "iterations": 20, "relax_iterations": 3,
+                           "joint_hertz": 60, "joint_damping_ratio": 5 },
                "integrator": "rk4", "threads": 2, "sleeping": false },
     "camera": { "position": [1, 2, 3], "target": [0, 1, 0], "fov": 60 },
     "materials": {}, "bodies": [], "joints": [], "particle_systems": [], "deformables": []
@@ -57,6 +58,9 @@ TEST(Scene, ReadsEveryWorldKey) {
   EXPECT_EQ(s.world.substeps, 2);
   EXPECT_EQ(s.world.solver.type, SolverType::Pgs);
   EXPECT_EQ(s.world.solver.iterations, 20);
+  EXPECT_EQ(s.world.solver.relaxIterations, 3);
+  EXPECT_EQ(s.world.solver.jointHertz, Real(60));
+  EXPECT_EQ(s.world.solver.jointDampingRatio, Real(5));
   EXPECT_EQ(s.world.integrator, ode::Method::Rk4);
   EXPECT_EQ(s.world.threads, 2);
   EXPECT_FALSE(s.world.sleeping);
@@ -106,6 +110,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{R"({"world": {"solver": {"type": "magic"}}})", "/world/solver/type",
                 "unknown solver"},
         BadCase{R"({"world": {"solver": {"iters": 3}}})", "/world/solver/iters", "unknown key"},
+        BadCase{R"({"world": {"solver": {"joint_hertz": 0}}})", "/world/solver/joint_hertz",
+                "out of range"},
+        BadCase{R"({"world": {"solver": {"joint_damping_ratio": -1}}})",
+                "/world/solver/joint_damping_ratio", "out of range"},
         BadCase{R"({"world": {"integrator": "euler"}})", "/world/integrator", "explicit_euler"},
         BadCase{R"({"world": {"sleeping": 1}})", "/world/sleeping", "true or false"},
         BadCase{R"({"world": []})", "/world", "expected an object, got an array"},

@@ -64,6 +64,13 @@ struct SolverSettings {
   /// soft_step only: relaxation passes per substep, after the position update and without the
   /// position bias (0..1000). Box2D v3 makes one; more remove more of the push-out velocity.
   int relaxIterations = 1;
+  /// soft_step only: the stiffness (Hz) and damping ratio of joints' locked rows and violated
+  /// limits, capped at half the substep rate. A load F on a joint of effective mass m sags it
+  /// by F / (m (2 pi jointHertz)^2) at rest: 17 um for a body hanging at its centre at 120 Hz,
+  /// four times that at 60 Hz. Box2D v3 makes joints 60 Hz (twice its 30 Hz contacts) and
+  /// solves one iteration; at 120 Hz a 100 x 100 joint grid needs three (bench/joints_bench.cpp).
+  Real jointHertz = 120;
+  Real jointDampingRatio = 2;
 };
 
 /// Contact tuning (defaults as Box2D v3, in metres and seconds).
