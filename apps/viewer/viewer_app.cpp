@@ -425,6 +425,10 @@ class App {
       if (ImGui::SliderFloat("contact hertz", &hertz, 5, 240, "%.0f"))
         edit_.contact.hertz = Real(hertz);
       changed |= ImGui::IsItemDeactivatedAfterEdit();
+      float jointHertz = float(edit_.solver.jointHertz);
+      if (ImGui::SliderFloat("joint hertz", &jointHertz, 5, 480, "%.0f"))
+        edit_.solver.jointHertz = Real(jointHertz);
+      changed |= ImGui::IsItemDeactivatedAfterEdit();
       ImGui::SliderInt("threads (0: all)", &edit_.threads, 0, 64);
       changed |= ImGui::IsItemDeactivatedAfterEdit();
       if (changed) deferred_ = [this] { applySettings(); };
