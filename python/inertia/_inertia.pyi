@@ -366,7 +366,8 @@ class World:
     joint_count: int
     def __init__(self, *, gravity: Vec3Like = (0, -9.81, 0), dt: float = 1 / 60,
                  substeps: int = 4, solver: str = "soft_step", iterations: int = 4,
-                 relax_iterations: int = 1, integrator: str = "symplectic_euler",
+                 relax_iterations: int = 1, joint_hertz: float = 120,
+                 joint_damping_ratio: float = 2, integrator: str = "symplectic_euler",
                  threads: int = 0, sleeping: bool = True) -> None: ...
     def step(self, dt: Optional[float] = None) -> None: ...
     def advance(self, frame_time: float, max_steps: int = 8) -> int: ...

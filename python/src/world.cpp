@@ -33,8 +33,9 @@ BodyType toBodyType(py::handle value) {
 }
 
 WorldSettings makeSettings(py::handle gravity, Real dt, int substeps, const std::string& solver,
-                           int iterations, int relaxIterations, const std::string& integrator,
-                           int threads, bool sleeping) {
+                           int iterations, int relaxIterations, Real jointHertz,
+                           Real jointDampingRatio, const std::string& integrator, int threads,
+                           bool sleeping) {
   WorldSettings s;
   s.gravity = toVec3(gravity, "gravity");
   s.dt = dt;
@@ -43,6 +44,8 @@ WorldSettings makeSettings(py::handle gravity, Real dt, int substeps, const std:
     argumentError("solver", "unknown solver '" + solver + "' (" + std::string(solverNames()) + ")");
   s.solver.iterations = iterations;
   s.solver.relaxIterations = relaxIterations;
+  s.solver.jointHertz = jointHertz;
+  s.solver.jointDampingRatio = jointDampingRatio;
   const std::optional<ode::Method> method = ode::methodFromName(integrator);
   if (!method) argumentError("integrator", "unknown integrator '" + integrator + "'");
   s.integrator = *method;
@@ -268,21 +271,25 @@ void bindWorld(py::module_& m) {
                             "unpickling) until it is changed from Python.");
   world.def(
       py::init([](py::handle gravity, Real dt, int substeps, const std::string& solver,
-                  int iterations, int relaxIterations, const std::string& integrator, int threads,
-                  bool sleeping) {
+                  int iterations, int relaxIterations, Real jointHertz, Real jointDampingRatio,
+                  const std::string& integrator, int threads, bool sleeping) {
         PyWorld w;
-        w.world =
-            std::make_unique<World>(makeSettings(gravity, dt, substeps, solver, iterations,
-                                                 relaxIterations, integrator, threads, sleeping));
+        w.world = std::make_unique<World>(makeSettings(gravity, dt, substeps, solver, iterations,
+                                                       relaxIterations, jointHertz,
+                                                       jointDampingRatio, integrator, threads,
+                                                       sleeping));
         return w;
       }),
       py::kw_only(), py::arg("gravity") = py::make_tuple(0, -9.81, 0), py::arg("dt") = 1.0 / 60,
       py::arg("substeps") = 4, py::arg("solver") = "soft_step", py::arg("iterations") = 4,
-      py::arg("relax_iterations") = 1, py::arg("integrator") = "symplectic_euler",
+      py::arg("relax_iterations") = 1, py::arg("joint_hertz") = 120,
+      py::arg("joint_damping_ratio") = 2, py::arg("integrator") = "symplectic_euler",
       py::arg("threads") = 0, py::arg("sleeping") = true,
       "gravity (m/s^2); dt: the fixed step of step() and advance() (s); substeps per step "
       "(1..64); solver: 'soft_step', 'pgs', 'lcp_dantzig' or 'lcp_lemke'; iterations "
-      "per substep; integrator of free motion ('symplectic_euler', 'rk4', ...); threads "
+      "per substep; relax_iterations: soft_step's passes without bias per substep; joint_hertz "
+      "and joint_damping_ratio: soft_step's stiffness (Hz, at most half the substep rate) and "
+      "damping of joints' locked rows and limits; integrator of free motion ('symplectic_euler', 'rk4', ...); threads "
       "(0: every core; results do not depend on it); sleeping: bodies at rest sleep.");
 
   // Settings and clock.

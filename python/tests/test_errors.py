@@ -226,7 +226,8 @@ def _in_system(item):
 # Every numeric keyword of the API's constructors and create_* calls, with how to make the
 # object that reads it: (name, make(**{keyword: value}), the keywords).
 KEYWORDS = [
-    ("World", lambda **k: inertia.World(**k), ["gravity", "dt"]),
+    ("World", lambda **k: inertia.World(**k), ["gravity", "dt", "joint_hertz",
+                                                "joint_damping_ratio"]),
     ("create_body", lambda **k: ball_world()[0].create_body(**k),
      ["position", "orientation", "velocity", "angular_velocity", "linear_damping",
       "angular_damping", "gravity_scale", "mass", "inertia"]),

@@ -91,3 +91,17 @@ def test_six_dof_axes_and_keyword_settings():
     # Free about x within +-0.5 rad: it turned to the limit and stopped there.
     assert world.joint_axis_coordinate(joint, 3) == pytest.approx(0.5, abs=0.02)
     np.testing.assert_allclose(world.position(body), (0, 1, 0), atol=1e-3)
+
+
+@pytest.mark.parametrize("hertz", [120, 60])
+def test_joint_hertz_sets_the_sag_of_a_hanging_body(hertz):
+    """A body hung at its centre on a ball joint sags by g / (2 pi joint_hertz)^2, the soft
+    row's spring deflection (tests/dynamics/joint_solver_test.cpp: exact to float's rounding)."""
+    world = inertia.World(joint_hertz=hertz, sleeping=False, threads=1)
+    bob = world.create_body()
+    world.add_shape(bob, inertia.Sphere(0.1), inertia.Material(density=1000))
+    world.create_joint(inertia.BallJoint(body_b=bob))
+    for _ in range(120):
+        world.step()
+    sag = 9.81 / (2 * np.pi * hertz) ** 2
+    assert -world.position(bob)[1] == pytest.approx(sag, rel=1e-5)
