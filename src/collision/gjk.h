@@ -160,8 +160,9 @@ std::optional<CastResult> shapeCast(const ConvexProxy& a, const Vec3& translatio
 /// (Montanari 2017): reduces `simplex` to the smallest sub-simplex holding that point and sets
 /// its weights. Exposed for the shape cast and for tests.
 Vec3 closestToOrigin(Simplex& simplex);
-/// closestToOrigin() with the signed volumes in double: for a thin simplex whose float volumes
-/// lose their sign (gjk() takes it when float makes no progress).
+/// closestToOrigin() with the signed volumes wider than Real (double for float, long double
+/// for double): for a thin simplex whose volumes lose their sign in Real (gjk() takes it when
+/// Real makes no progress).
 Vec3 closestToOriginWide(Simplex& simplex);
 
 }  // namespace inertia::detail
