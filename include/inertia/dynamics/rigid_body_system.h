@@ -73,9 +73,11 @@ struct SolverSettings {
   Real jointDampingRatio = 2;
 };
 
-/// Contact tuning (defaults as Box2D v3, in metres and seconds).
+/// Contact tuning (defaults as Box2D v3's but `hertz`, in metres and seconds).
 struct ContactTuning {
-  Real hertz = 60;          ///< Stiffness of soft contacts (Hz), capped at a quarter of the substep rate.
+  /// Stiffness of soft contacts (Hz), capped at a quarter of the substep rate: at 4 substeps of
+  /// 1/60 s, the cap. Box2D v3's default is 30.
+  Real hertz = 60;
   Real dampingRatio = 10;   ///< Damping ratio of soft contacts (over-damped: no bounce from push-out).
   Real pushVelocity = 3;    ///< Largest speed at which overlap is resolved (m/s).
   Real restitutionThreshold = 1;  ///< Approach speed below which contacts do not bounce (m/s).
