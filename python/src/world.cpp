@@ -274,10 +274,9 @@ void bindWorld(py::module_& m) {
                   int iterations, int relaxIterations, Real jointHertz, Real jointDampingRatio,
                   const std::string& integrator, int threads, bool sleeping) {
         PyWorld w;
-        w.world = std::make_unique<World>(makeSettings(gravity, dt, substeps, solver, iterations,
-                                                       relaxIterations, jointHertz,
-                                                       jointDampingRatio, integrator, threads,
-                                                       sleeping));
+        w.world = std::make_unique<World>(
+            makeSettings(gravity, dt, substeps, solver, iterations, relaxIterations, jointHertz,
+                         jointDampingRatio, integrator, threads, sleeping));
         return w;
       }),
       py::kw_only(), py::arg("gravity") = py::make_tuple(0, -9.81, 0), py::arg("dt") = 1.0 / 60,
@@ -289,8 +288,9 @@ void bindWorld(py::module_& m) {
       "(1..64); solver: 'soft_step', 'pgs', 'lcp_dantzig' or 'lcp_lemke'; iterations "
       "per substep; relax_iterations: soft_step's passes without bias per substep; joint_hertz "
       "and joint_damping_ratio: soft_step's stiffness (Hz, at most half the substep rate) and "
-      "damping of joints' locked rows and limits; integrator of free motion ('symplectic_euler', 'rk4', ...); threads "
-      "(0: every core; results do not depend on it); sleeping: bodies at rest sleep.");
+      "damping of joints' locked rows and limits; integrator of free motion ('symplectic_euler', "
+      "'rk4', ...); threads (0: every core; results do not depend on it); sleeping: bodies at "
+      "rest sleep.");
 
   // Settings and clock.
   world
