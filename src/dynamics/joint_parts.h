@@ -16,6 +16,7 @@
 #include <limits>
 
 #include "contact_solver.h"
+#include "inertia/core/math.h"
 #include "solver_body.h"
 
 namespace inertia::detail {
@@ -111,9 +112,9 @@ struct RowBlock {
       lb += rows[i].jb * lambda(int(i));
     }
     a.v -= a.invMass * p;
-    a.w -= a.invInertia * la;
+    a.w -= times(a.invInertia, la);
     b.v += b.invMass * p;
-    b.w += b.invInertia * lb;
+    b.w += times(b.invInertia, lb);
   }
   void warmStart(SolverBody& a, SolverBody& b) const {
     if (point)
@@ -290,9 +291,9 @@ struct RowBlock {
       lb += r.jb * delta(i);
     }
     a.v -= a.invMass * p;
-    a.w -= a.invInertia * la;
+    a.w -= times(a.invInertia, la);
     b.v += b.invMass * p;
-    b.w += b.invInertia * lb;
+    b.w += times(b.invInertia, lb);
   }
 
   Eigen::Map<const Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic, 0, kMax, kMax>> inverse()
@@ -322,7 +323,7 @@ struct AxisRows {
   /// change between position updates, so the passes share it).
   void prepare(const SolverBody& a, const SolverBody& b) {
     const Real k = (a.invMass + b.invMass) * row.linear.squaredNorm() +
-                   row.ja.dot(a.invInertia * row.ja) + row.jb.dot(b.invInertia * row.jb);
+                   row.ja.dot(times(a.invInertia, row.ja)) + row.jb.dot(times(b.invInertia, row.jb));
     effectiveMass = k > 0 ? 1 / k : 0;
   }
   Real total() const { return spring + motor + friction + lower - upper + lock; }
@@ -331,9 +332,9 @@ struct AxisRows {
   }
   void apply(SolverBody& a, SolverBody& b, Real lambda) const {
     a.v -= a.invMass * lambda * row.linear;
-    a.w -= a.invInertia * (lambda * row.ja);
+    a.w -= times(a.invInertia, lambda * row.ja);
     b.v += b.invMass * lambda * row.linear;
-    b.w += b.invInertia * (lambda * row.jb);
+    b.w += times(b.invInertia, lambda * row.jb);
   }
   void warmStart(SolverBody& a, SolverBody& b) const { apply(a, b, total()); }
   void reaction(Vec3& linear, Vec3& angular) const {

@@ -6,6 +6,7 @@
 #include <optional>
 #include <utility>
 
+#include "inertia/core/math.h"
 #include "lcp_contact.h"
 
 namespace inertia::detail {
@@ -17,8 +18,8 @@ using Frame = JointFrame;
 // A joint's geometry in the current substep, from its bodies' motion since the step's start.
 Frame currentFrame(const JointConstraint& c, const SolverBody& a, const SolverBody& b) {
   Frame f;
-  f.rA = a.dR * c.rA;
-  f.rB = b.dR * c.rB;
+  f.rA = times(a.dR, c.rA);
+  f.rB = times(b.dR, c.rB);
   f.d = (b.dp - a.dp) + (f.rB - f.rA) + c.deltaCenter;
   f.qA = a.dq * c.frameA;
   f.qB = b.dq * c.frameB;
@@ -252,7 +253,7 @@ void freeRows(JointConstraint& c, const JointRecord& j, const Frame& f, JointPar
 // an amplitude of 1.5 rad: the arm turns 0.1 rad in a step.)
 void refreshPoint(JointConstraint& c, const SolverBody& a, const SolverBody& b) {
   RowBlock& lock = c.lock;
-  lock.setPoint(a.dR * c.rA, b.dR * c.rB);
+  lock.setPoint(times(a.dR, c.rA), times(b.dR, c.rB));
   lock.error.head<3>() = (b.dp - a.dp) + (lock.armB - lock.armA) + c.deltaCenter;
   if (lock.invertPoint(a, b)) return;
   RowBlock::Vector C = lock.error.head<3>();
