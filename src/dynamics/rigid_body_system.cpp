@@ -81,6 +81,9 @@ bool holds(const Mat3& inertia, const Mat3& inverse) {
 void requireSimulable(const MassProperties& props) {
   const Eigen::SelfAdjointEigenSolver<Mat3> eig(props.inertia, Eigen::EigenvaluesOnly);
   const Vec3 moments = eig.eigenvalues();
+  if (simulableMassProperty(props.mass) && simulableMassProperty(moments.minCoeff()) &&
+      simulableMassProperty(moments.maxCoeff()))
+    return;
   char text[320];
   std::snprintf(text, sizeof(text),
                 "RigidBodySystem::addShape: the shape's mass (%.3g kg) or a principal moment of "
@@ -88,9 +91,7 @@ void requireSimulable(const MassProperties& props) {
                 "density too small or too large",
                 double(props.mass), double(moments.minCoeff()), double(moments.maxCoeff()),
                 massPropertyRange().c_str());
-  require(simulableMassProperty(props.mass) && simulableMassProperty(moments.minCoeff()) &&
-              simulableMassProperty(moments.maxCoeff()),
-          text);
+  throw InvalidArgument(text);
 }
 
 }  // namespace
