@@ -323,7 +323,8 @@ struct AxisRows {
   /// change between position updates, so the passes share it).
   void prepare(const SolverBody& a, const SolverBody& b) {
     const Real k = (a.invMass + b.invMass) * row.linear.squaredNorm() +
-                   row.ja.dot(times(a.invInertia, row.ja)) + row.jb.dot(times(b.invInertia, row.jb));
+                   row.ja.dot(times(a.invInertia, row.ja)) +
+                   row.jb.dot(times(b.invInertia, row.jb));
     effectiveMass = k > 0 ? 1 / k : 0;
   }
   Real total() const { return spring + motor + friction + lower - upper + lock; }
