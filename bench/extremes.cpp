@@ -123,10 +123,22 @@ bool timeSteps() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int n = argc > 1 ? std::atoi(argv[1]) : 100000;
+  if (argc > 2) {
+    std::fprintf(stderr, "inertia_extremes: one argument at most (BODIES), got %d\n", argc - 1);
+    return 2;
+  }
+  char* end = nullptr;
+  const long n = argc > 1 ? std::strtol(argv[1], &end, 10) : 100000;
+  if (argc > 1 && (*argv[1] == '\0' || *end != '\0' || n < 0 || n > 10'000'000)) {
+    std::fprintf(stderr,
+                 "inertia_extremes: BODIES must be a count in 0..10000000 (0: skip the "
+                 "many-bodies world), got '%s'\n",
+                 argv[1]);
+    return 2;
+  }
   bool ok = smallOnLarge();
   ok = massRatios() && ok;
   ok = timeSteps() && ok;
-  if (n > 0) ok = manyBodies(n) && ok;
+  if (n > 0) ok = manyBodies(int(n)) && ok;
   return ok ? 0 : 1;
 }

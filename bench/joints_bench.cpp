@@ -400,7 +400,8 @@ bool checkSameBits(const Scene& scene, const std::vector<int>& counts,
 int main(int argc, char** argv) {
   const std::vector<int> counts = bench::threadCounts(argc, argv);
   gSteps = bench::countOption(argc, argv, "--steps", 1'000'000, gSteps);
-  std::vector<std::string> only(argv + 1, argv + argc);
+  const std::vector<std::string> only =
+      bench::sceneNames(argc, argv, "bench_joints", {"chain", "joint_grid", "ragdolls"});
 #ifdef INERTIA_BENCH_ODE
   dInitODE2(0);
 #endif

@@ -4,6 +4,9 @@
 // the same thread count, by a STREAM triad (McCalpin) over arrays as large as the particle state.
 // The bound is (bytes the step must read and write) / bandwidth; the goal is at most 1.5x that
 // bound. Every thread count must end with the same bits (ParticleSystem's promise).
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
@@ -13,9 +16,6 @@
 #include <span>
 #include <string>
 #include <vector>
-
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include "inertia/collision/collider.h"
 #include "inertia/core/thread_pool.h"
@@ -80,7 +80,13 @@ ParticleSystem makeSystem(std::size_t n) {
 // thread counts (default: 1, 2 and all cores; 1 is always run).
 int main(int argc, char** argv) {
   const std::vector<int> counts = bench::threadCounts(argc, argv);
-  const std::size_t n = argc > 1 ? std::size_t(std::atoll(argv[1])) : 1000000;
+  if (argc > 2) {
+    std::fprintf(stderr, "bench_particles: one argument at most (the particle count), got %d\n",
+                 argc - 1);
+    return 2;
+  }
+  const auto n = std::size_t(
+      bench::countArgument(argc, argv, 1, "bench_particles: particle count", 1L << 31, 1000000));
   const int steps = 60;
   // Bytes a step must move per particle: read position, velocity (3 Reals each), mass, age,
   // lifetime, radius; write position, velocity, age.

@@ -311,7 +311,8 @@ bool checkSameBits(const Scene& scene, const std::vector<int>& counts, const Thr
 int main(int argc, char** argv) {
   const std::vector<int> counts = bench::threadCounts(argc, argv);
   const int repeat = bench::repeatCount(argc, argv);
-  std::vector<std::string> only(argv + 1, argv + argc);
+  const std::vector<std::string> only =
+      bench::sceneNames(argc, argv, "bench_rigid_bodies", {"pyramid", "pile", "rain"});
 #ifdef INERTIA_BENCH_ODE
   dInitODE2(0);
 #endif

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <initializer_list>
 #include <optional>
 #include <span>
 #include <string>
@@ -58,6 +59,40 @@ inline int countOption(int& argc, char** argv, std::string_view name, long most,
     std::exit(2);
   }
   return int(n);
+}
+
+// The arguments left once the options are taken: names of scenes to run, each one of `known`
+// (all of them when none is given). Exits with a message on any other word, so that a misspelt
+// scene or an option this benchmark does not take is not silently run as "every scene".
+inline std::vector<std::string> sceneNames(int argc, char** argv, std::string_view benchmark,
+                                           std::initializer_list<std::string_view> known) {
+  std::vector<std::string> names;
+  for (int i = 1; i < argc; ++i) {
+    if (std::find(known.begin(), known.end(), argv[i]) == known.end()) {
+      std::string list;
+      for (std::string_view k : known) list += (list.empty() ? "" : ", ") + std::string(k);
+      std::fprintf(stderr, "%s: argument %d: unknown scene or option '%s' (scenes: %s)\n",
+                   std::string(benchmark).c_str(), i, argv[i], list.c_str());
+      std::exit(2);
+    }
+    names.emplace_back(argv[i]);
+  }
+  return names;
+}
+
+// argv[index] as a count in 1..most (`fallback` when absent); exits with a message naming the
+// argument when it is malformed.
+inline long countArgument(int argc, char** argv, int index, std::string_view name, long most,
+                          long fallback) {
+  if (index >= argc) return fallback;
+  char* end = nullptr;
+  const long n = std::strtol(argv[index], &end, 10);
+  if (*argv[index] == '\0' || *end != '\0' || n < 1 || n > most) {
+    std::fprintf(stderr, "%s: expected a count in 1..%ld, got '%s'\n", std::string(name).c_str(),
+                 most, argv[index]);
+    std::exit(2);
+  }
+  return n;
 }
 
 // The thread counts to time, ascending, each once, 1 always first (the speed-ups are against it).
