@@ -13,6 +13,7 @@
 #include <string>
 
 #include "inertia/world/world.h"
+#include "thread_sweep.h"
 
 namespace {
 
@@ -127,15 +128,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "inertia_extremes: one argument at most (BODIES), got %d\n", argc - 1);
     return 2;
   }
-  char* end = nullptr;
-  const long n = argc > 1 ? std::strtol(argv[1], &end, 10) : 100000;
-  if (argc > 1 && (*argv[1] == '\0' || *end != '\0' || n < 0 || n > 10'000'000)) {
-    std::fprintf(stderr,
-                 "inertia_extremes: BODIES must be a count in 0..10000000 (0: skip the "
-                 "many-bodies world), got '%s'\n",
-                 argv[1]);
-    return 2;
-  }
+  // 0: skip the many-bodies world.
+  const long n =
+      argc > 1 ? bench::parseCount("inertia_extremes: BODIES", argv[1], 0, 10'000'000) : 100000;
   bool ok = smallOnLarge();
   ok = massRatios() && ok;
   ok = timeSteps() && ok;

@@ -4,9 +4,6 @@
 // the same thread count, by a STREAM triad (McCalpin) over arrays as large as the particle state.
 // The bound is (bytes the step must read and write) / bandwidth; the goal is at most 1.5x that
 // bound. Every thread count must end with the same bits (ParticleSystem's promise).
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
@@ -16,6 +13,9 @@
 #include <span>
 #include <string>
 #include <vector>
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "inertia/collision/collider.h"
 #include "inertia/core/thread_pool.h"
@@ -85,8 +85,10 @@ int main(int argc, char** argv) {
                  argc - 1);
     return 2;
   }
-  const auto n = std::size_t(
-      bench::countArgument(argc, argv, 1, "bench_particles: particle count", 1L << 31, 1000000));
+  const std::size_t n =
+      argc > 1 ? std::size_t(bench::parseCount("bench_particles: particle count", argv[1], 1,
+                                               1L << 31))
+               : 1000000;
   const int steps = 60;
   // Bytes a step must move per particle: read position, velocity (3 Reals each), mass, age,
   // lifetime, radius; write position, velocity, age.

@@ -1,6 +1,7 @@
-// Shared by the benchmarks that time Inertia at several thread counts in one run: the counts to
-// run and a hash of a final state's bits, to show that every count computed the same bytes
-// (DESIGN.md section 7: results independent of thread count).
+// Shared by the benchmarks: their arguments (options, counts, scene names; a wrong one exits 2
+// with a message), the thread counts to time Inertia at in one run, and a hash of a final
+// state's bits, to show that every count computed the same bytes (DESIGN.md section 7: results
+// independent of thread count).
 #pragma once
 
 #include <tbb/info.h>
@@ -46,19 +47,23 @@ inline std::optional<std::string> takeOption(int& argc, char** argv, std::string
   return value;
 }
 
-// takeOption's value as a count in 1..most (`fallback` when absent); exits with a message
-// naming the option when it is malformed.
-inline int countOption(int& argc, char** argv, std::string_view name, long most, int fallback) {
-  const std::optional<std::string> value = takeOption(argc, argv, name);
-  if (!value) return fallback;
+// `text` as a count in least..most; exits with a message naming `name` (the option or
+// argument) when it is malformed or out of range.
+inline long parseCount(std::string_view name, const std::string& text, long least, long most) {
   char* end = nullptr;
-  const long n = std::strtol(value->c_str(), &end, 10);
-  if (value->empty() || *end != '\0' || n < 1 || n > most) {
-    std::fprintf(stderr, "%s: expected a count in 1..%ld, got '%s'\n", std::string(name).c_str(),
-                 most, value->c_str());
+  const long n = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || n < least || n > most) {
+    std::fprintf(stderr, "%s: expected a count in %ld..%ld, got '%s'\n", std::string(name).c_str(),
+                 least, most, text.c_str());
     std::exit(2);
   }
-  return int(n);
+  return n;
+}
+
+// takeOption's value as a count in 1..most (`fallback` when absent).
+inline int countOption(int& argc, char** argv, std::string_view name, long most, int fallback) {
+  const std::optional<std::string> value = takeOption(argc, argv, name);
+  return value ? int(parseCount(name, *value, 1, most)) : fallback;
 }
 
 // The arguments left once the options are taken: names of scenes to run, each one of `known`
@@ -78,21 +83,6 @@ inline std::vector<std::string> sceneNames(int argc, char** argv, std::string_vi
     names.emplace_back(argv[i]);
   }
   return names;
-}
-
-// argv[index] as a count in 1..most (`fallback` when absent); exits with a message naming the
-// argument when it is malformed.
-inline long countArgument(int argc, char** argv, int index, std::string_view name, long most,
-                          long fallback) {
-  if (index >= argc) return fallback;
-  char* end = nullptr;
-  const long n = std::strtol(argv[index], &end, 10);
-  if (*argv[index] == '\0' || *end != '\0' || n < 1 || n > most) {
-    std::fprintf(stderr, "%s: expected a count in 1..%ld, got '%s'\n", std::string(name).c_str(),
-                 most, argv[index]);
-    std::exit(2);
-  }
-  return n;
 }
 
 // The thread counts to time, ascending, each once, 1 always first (the speed-ups are against it).
