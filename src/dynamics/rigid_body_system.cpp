@@ -172,13 +172,17 @@ void Data::updateMass(BodyRecord& b) {
     // Principal axes for the free-rotation splitting (a proper rotation).
     Eigen::SelfAdjointEigenSolver<Mat3> eig(b.inertiaLocal);
     Vec3 moments = eig.eigenvalues();
-    if (!holds(b.inertiaLocal, b.invInertiaLocal)) {
-      // A tensor conditioned beyond what Real inverts (kInverseResidual, body.h): a body far
-      // longer than thick, as a fuzzed hull 100 km from a thin cylinder. Its smallest moments
-      // are raised to a quarter of that condition, here once, so that the tensor, its inverse,
-      // the gyroscopic step and the free rotation all answer for the same body.
-      moments = moments.cwiseMax(4 * std::numeric_limits<Real>::epsilon() / kInverseResidual *
-                                 moments.maxCoeff());
+    // A tensor conditioned beyond what Real inverts (kInverseResidual, body.h): a body far
+    // longer than thick, as a fuzzed hull 100 km from a thin cylinder. The test is on the
+    // moments, not only on the local inverse: a thin cylinder's tensor is diagonal in its frame
+    // and inverts exactly there, but the world's R diag(1/I) R^T rounds eps / I_min into every
+    // entry. Its smallest moments are raised to a quarter of that condition, here once, so that
+    // the tensor, its inverse, the gyroscopic step and the free rotation all answer for the
+    // same body.
+    constexpr Real kEps = std::numeric_limits<Real>::epsilon();
+    if (!holds(b.inertiaLocal, b.invInertiaLocal) ||
+        !(moments.minCoeff() * kInverseResidual > kEps * moments.maxCoeff())) {
+      moments = moments.cwiseMax(4 * kEps / kInverseResidual * moments.maxCoeff());
       b.inertiaLocal = eig.eigenvectors() * moments.asDiagonal() * eig.eigenvectors().transpose();
       b.inertiaLocal = Real(0.5) * (b.inertiaLocal + b.inertiaLocal.transpose());
       b.invInertiaLocal = inverseInertia(b.inertiaLocal);

@@ -177,52 +177,86 @@ TEST(ContactDynamics, HugeAndLightBodiesInvertTheirInertiaAndLandWithoutNaN) {
   }
 }
 
+namespace {
+
+// Holds a needle body, its long axis d, to its transverse moment perp (see below).
+void expectNeedleHolds(World& world, BodyId body, const Vec3& d, double perp, Real dt) {
+  RigidBodySystem& rb = world.rigidBodies();
+  for (const Vec3& u : {d, Vec3(Vec3::UnitX()), Vec3(1, -2, Real(0.5)).normalized()}) {
+    const Vec3 w0 = rb.angularVelocity(body);
+    rb.applyAngularImpulse(body, Real(perp) * u);
+    const Vec3 dw = rb.angularVelocity(body) - w0;
+    ASSERT_TRUE(dw.allFinite());
+    EXPECT_GT(dw.dot(u), 0) << "u " << u.transpose();
+    rb.applyAngularImpulse(body, -Real(perp) * u);
+  }
+  const Vec3 across = d.cross(Vec3::UnitZ()).normalized();
+  const Vec3 w0 = rb.angularVelocity(body);
+  rb.applyAngularImpulse(body, Real(perp) * across);
+  EXPECT_LT((rb.angularVelocity(body) - w0 - across).norm(), kInverseResidual)
+      << (rb.angularVelocity(body) - w0).transpose();
+  bool touched = false;
+  for (int i = 0; i < 20; ++i) {
+    world.step(dt);
+    touched = touched || world.contactCount() > 0;
+    ASSERT_TRUE(rb.transform(body).p.allFinite() && rb.transform(body).q.coeffs().allFinite() &&
+                rb.angularVelocity(body).allFinite())
+        << "step " << i;
+  }
+  EXPECT_TRUE(touched);
+}
+
+}  // namespace
+
 // Issue 21's fuzz findings world-100km-offset-dt1e-5-nan and world-hull-1e5-inverse-nan
 // (fuzz/corpus/world/): bodies whose smallest principal moment lies below the rounding of their
 // largest (a hull 100 km from a thin cylinder; a hull of 1e5 m vertices on a capsule). Their
 // tensor's 3x3 inverse cancelled to an infinite or indefinite one, and the implicit gyroscopic
-// step's 3x3 solve to NaN, both in the first steps. Here: two 0.5 m spheres 20 km apart on a
-// tilted axis d, whose moment about d (105 kg m^2) is 1e-9 of the others (1.05e11 kg m^2), the
-// lower one resting on a plane (so that the body is solved, gyroscopic term included).
+// step's 3x3 solve to NaN, both in the first steps. Two needles on a tilted axis d, the lower
+// end resting on a plane (so that the body is solved, gyroscopic term included):
+// - two 0.5 m spheres 20 km apart, whose moment about d (105 kg m^2) is 1e-9 of the others
+//   (1.05e11 kg m^2): a tensor far from diagonal in the body's frame;
+// - a cylinder 20 m long and 0.1 mm thick turned onto d by the body's orientation, whose moment
+//   about its axis is 1.5e-10 of the others (fuzz/open/world-needle-nan-with-closed-form-
+//   gyroscopic is such a body). Its tensor is diagonal in the body's frame and inverts exactly
+//   there, but the world's R diag(1/I) R^T rounds eps / I_axial into every entry: 1e3 times the
+//   true transverse response, unless the tensor's condition is bounded.
 // Oracle: an angular impulse L across d changes the angular velocity by L / I_perp, the
-// parallel-axis closed form, to kInverseResidual (1%: what the inverse holds); an impulse
-// along any direction turns the body that way (the inverse is positive); spinning at dt 1e-5 s
-// and 1/60 s, it stays finite.
+// closed form, to kInverseResidual (1%: what the inverse holds); an impulse along any direction
+// turns the body that way (the inverse is positive); spinning at dt 1e-5 s and 1/60 s, it stays
+// finite.
 TEST(ContactDynamics, NeedleBodiesInvertTheirInertiaAndSpinWithoutNaN) {
-  const double pi = std::numbers::pi, rho = 1000, r = 0.5, L = 1e4;
+  const double pi = std::numbers::pi, rho = 1000, L = 1e4;
   const Vec3 d = Vec3(1, 1, 1).normalized();
-  const double m = rho * 4 * pi * r * r * r / 3;          // each sphere
-  const double perp = 2 * (0.4 * m * r * r + m * L * L);  // about an axis across d
+  const double r = 0.5, m = rho * 4 * pi * r * r * r / 3;  // each sphere
+  const double perp = 2 * (0.4 * m * r * r + m * L * L);   // about an axis across d
+  const double a = 1e-4, h = 20, mc = rho * pi * a * a * h;  // the cylinder
+  const double perpCylinder = mc * (3 * a * a + h * h) / 12;
   for (Real dt : {Real(1e-5), Real(1.0 / 60)}) {
-    World world({.gravity = Vec3(0, -10, 0), .dt = dt, .sleeping = false});
-    const BodyId ground = world.createBody({.type = BodyType::Static});
-    world.addShape(ground, Plane{Vec3::UnitY(), Real(-L * d.y() - r)});
-    const BodyId body = world.createBody({.angularVelocity = Vec3(3, -8, 10)});
-    for (Real side : {Real(-1), Real(1)})
-      world.addShape(body, Sphere{Real(r)}, Material{.density = Real(rho)},
-                     Transform{side * Real(L) * d});
-    RigidBodySystem& rb = world.rigidBodies();
-    for (const Vec3& u : {d, Vec3(Vec3::UnitX()), Vec3(1, -2, Real(0.5)).normalized()}) {
-      const Vec3 w0 = rb.angularVelocity(body);
-      rb.applyAngularImpulse(body, Real(perp) * u);
-      const Vec3 dw = rb.angularVelocity(body) - w0;
-      ASSERT_TRUE(dw.allFinite()) << "dt " << dt;
-      EXPECT_GT(dw.dot(u), 0) << "dt " << dt << " u " << u.transpose();
-      rb.applyAngularImpulse(body, -Real(perp) * u);
+    SCOPED_TRACE(testing::Message() << "dt " << dt);
+    {
+      SCOPED_TRACE("two spheres");
+      World world({.gravity = Vec3(0, -10, 0), .dt = dt, .sleeping = false});
+      const BodyId ground = world.createBody({.type = BodyType::Static});
+      world.addShape(ground, Plane{Vec3::UnitY(), Real(-L * d.y() - r)});
+      const BodyId body = world.createBody({.angularVelocity = Vec3(3, -8, 10)});
+      for (Real side : {Real(-1), Real(1)})
+        world.addShape(body, Sphere{Real(r)}, Material{.density = Real(rho)},
+                       Transform{side * Real(L) * d});
+      expectNeedleHolds(world, body, d, perp, dt);
     }
-    const Vec3 across = d.cross(Vec3::UnitZ()).normalized();
-    const Vec3 w0 = rb.angularVelocity(body);
-    rb.applyAngularImpulse(body, Real(perp) * across);
-    EXPECT_LT((rb.angularVelocity(body) - w0 - across).norm(), kInverseResidual) << "dt " << dt;
-    bool touched = false;
-    for (int i = 0; i < 20; ++i) {
-      world.step(dt);
-      touched = touched || world.contactCount() > 0;
-      ASSERT_TRUE(rb.transform(body).p.allFinite() && rb.transform(body).q.coeffs().allFinite() &&
-                  rb.angularVelocity(body).allFinite())
-          << "dt " << dt << " step " << i;
+    {
+      SCOPED_TRACE("cylinder");
+      World world({.gravity = Vec3(0, -10, 0), .dt = dt, .sleeping = false});
+      const BodyId ground = world.createBody({.type = BodyType::Static});
+      const double lowest = h / 2 * d.y() + a * std::sqrt(1 - d.y() * d.y());
+      world.addShape(ground, Plane{Vec3::UnitY(), Real(-lowest)});
+      const BodyId body =
+          world.createBody({.orientation = Quat::FromTwoVectors(Vec3::UnitY(), d),
+                            .angularVelocity = Vec3(3, -8, 10)});
+      world.addShape(body, Cylinder{Real(a), Real(h / 2)}, Material{.density = Real(rho)});
+      expectNeedleHolds(world, body, d, perpCylinder, dt);
     }
-    EXPECT_TRUE(touched) << "dt " << dt;
   }
 }
 

@@ -71,10 +71,11 @@ constexpr bool shouldCollide(const CollisionFilter& a, const CollisionFilter& b)
 /// a mass override outside it rather than turn NaN later.
 inline constexpr Real kMinMassProperty = std::numeric_limits<Real>::min() * Real(16777216);
 inline constexpr Real kMaxMassProperty = std::numeric_limits<Real>::max() / Real(16777216);
-/// How closely a body's inverse inertia answers: 1%. A tensor whose cofactor inverse misses by
-/// more (conditioned past about kInverseResidual / eps, 1e5 in float: a rod 800 times longer
-/// than thick) has its smallest moments raised to a quarter of that condition when the body's
-/// mass is computed; the spin about such a body's long axis is slower than the true one.
+/// How closely a body's inverse inertia answers: 1%. A tensor conditioned past kInverseResidual
+/// / eps (principal moments spanning 1e5 in float: a rod 800 times longer than thick), or whose
+/// cofactor inverse misses by more, has its smallest moments raised to a quarter of that
+/// condition when the body's mass is computed; the spin about such a body's long axis is slower
+/// than the true one.
 inline constexpr Real kInverseResidual = Real(1e-2);
 /// True when x lies in [kMinMassProperty, kMaxMassProperty].
 bool simulableMassProperty(Real x);
