@@ -86,6 +86,37 @@ TEST(ParticleMotion, VortexGivesThePromisedAngularVelocity) {
   EXPECT_NEAR(std::hypot(p.x(), p.z()), r, 1e-3 * r);
 }
 
+// Found by the hour-long soak (bench/soak.cpp) in scenes/vortex_smoke.json: a particle crossing
+// near the axis faster than the flow. Its centripetal term, v_t^2 / r, grows without bound as r
+// falls; an explicit step overshot across the axis at a larger v_t, and the particle reached
+// 1e19 m/s and NaN within 0.4 s. The scene's vortex and step: omega 2.5 rad/s, core 0.8 m,
+// tightness 1.5/s, midpoint at 1/60 s; the particle 1 cm from the axis, 2 m/s across it.
+// Oracle: drag towards the flow (rate 1.5/s) settles it on the flow; after 10 s (e^-15 of its
+// start left) its angular velocity is the Rankine flow's at its radius, within 1%. On the way
+// its kinetic energy per kg never exceeds the larger of its start's and the flow's fastest
+// (omega core = 2 m/s), both halved squares, plus the deepest well the centripetal pull can
+// make, (omega core)^2 / 2 (a pull of at most omega^2 r inside the core, weaker outside): drag
+// towards the flow only removes energy above the flow's. 1% on top for midpoint's O(h^2).
+TEST(ParticleMotion, VortexHoldsAParticleCrossingNearItsAxis) {
+  const Real omega = Real(2.5), core = Real(0.8), h = Real(1.0 / 60.0);
+  ParticleSystem ps = systemWith(
+      ode::Method::Midpoint, {{VortexField{.angularSpeed = omega, .coreRadius = core, .tightness = Real(1.5)}}});
+  ps.pool().add(particleOfMass(Vec3(Real(0.01), 0, 0), Vec3(0, 0, 2)));
+  Real fastest = 0;
+  for (int i = 0; i < 600; ++i) {
+    ps.step(h);
+    const Vec3 v = ps.pool().velocity(0);
+    ASSERT_TRUE(v.allFinite() && ps.pool().position(0).allFinite()) << "step " << i;
+    fastest = std::max(fastest, v.norm());
+  }
+  const Real top = std::max(Real(2), omega * core);
+  EXPECT_LE(fastest, Real(1.01) * std::sqrt(top * top + omega * core * omega * core));
+  const Vec3 p = ps.pool().position(0), v = ps.pool().velocity(0);
+  const Real r = std::hypot(p.x(), p.z());
+  const Real flow = r <= core ? omega : omega * core * core / (r * r);
+  EXPECT_NEAR(p.cross(v).y() / (r * r), flow, Real(0.01) * flow) << "r " << r;
+}
+
 TEST(ParticleMotion, SpringsConserveEnergyWithSymplecticEuler) {
   // Two particles on an undamped spring. Symplectic Euler keeps a modified energy, so the true
   // energy oscillates with relative amplitude O(omega h) and does not drift: over 10^5 steps

@@ -38,7 +38,8 @@ struct WindField {
 /// outside (a Rankine vortex). Particles are dragged towards the flow's velocity u with
 /// `tightness` (1/s, a = tightness (u - v) in the plane normal to the axis) and held on their
 /// circle by the centripetal acceleration of their own tangential speed v_t (v_t^2 / r towards
-/// the axis): a particle at rest spins up without falling inwards, and one moving with the flow
+/// the axis, v_t capped at the flow's speed omega r so that the pull stays bounded near the
+/// axis): a particle at rest spins up without falling inwards, and one moving with the flow
 /// circles at exactly the promised angular velocity.
 struct VortexField {
   Vec3 center = Vec3::Zero();     ///< m
