@@ -51,7 +51,9 @@ void Deformable::integrateExplicit(Real h) {
   w.forces.resize(n3);
   auto accel = [&](Real t, ode::ConstView<Real> x, ode::ConstView<Real> v, ode::View<Real> a) {
     a.setZero();
-    applyFields(fields_, FieldBatch{t, {x.data(), n3}, {v.data(), n3}, masses_, {a.data(), n3}});
+    applyFields(fields_,
+                FieldBatch{t, {x.data(), n3}, {v.data(), n3}, masses_, {a.data(), n3},
+                           dragStep(settings_.integrator, h)});
     std::fill(w.forces.begin(), w.forces.end(), Real(0));
     detail::addSpringForces<Real>(springs_, broken_, x.data(), v.data(), w.forces.data());
     // Attachments: their points move on at their velocities from the step's start.
@@ -86,7 +88,7 @@ void Deformable::integrateImplicit(Real h, detail::StepWorkers& workers) {
   Scratch& w = *scratch_;
   const std::size_t n = vertexCount(), n3 = x_.size();
   w.fieldAcceleration.assign(n3, Real(0));
-  applyFields(fields_, FieldBatch{Real(time_), x_, v_, masses_, w.fieldAcceleration});
+  applyFields(fields_, FieldBatch{Real(time_), x_, v_, masses_, w.fieldAcceleration, 0});
   w.fieldDamping.assign(n, Real(0));
   for (const ForceField& f : fields_)
     for (std::size_t i = 0; i < n; ++i)

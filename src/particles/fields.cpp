@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 #include <numbers>
 #include <type_traits>
@@ -94,6 +95,10 @@ struct Apply {
   void add(std::size_t i, const Vec3& a) const {
     Eigen::Map<Vec3>(&b.accelerations[3 * i]) += a;
   }
+  // The most a drag's rate may be (1/s): 1 / step (FieldBatch::step), unbounded when implicit.
+  Real maxRate() const {
+    return b.step > 0 ? 1 / b.step : std::numeric_limits<Real>::infinity();
+  }
 
   // Gravity and linear drag act on every particle every step: without a region they are plain
   // loops over the batch's arrays (vectorised), computing the same bits as add() would.
@@ -126,20 +131,21 @@ struct Apply {
   }
   void operator()(const LinearDragField& f) const {
     if (region) {
-      each([&](std::size_t i) { add(i, -(f.k / b.masses[i]) * v(i)); });
+      each([&](std::size_t i) { add(i, -std::min(f.k / b.masses[i], maxRate()) * v(i)); });
       return;
     }
+    const Real cap = maxRate();
     Real* a = b.accelerations.data();
     const Real* vs = b.velocities.data();
     const Real* m = b.masses.data();
     std::size_t i = 0;
 #if INERTIA_PARTICLES_SSE
     {
-      // Four particles at a time: s = (-k) / m (the same bits as -(k / m)), each s spread over
-      // its particle's 3 components by shuffles.
-      const __m128 negK = _mm_set1_ps(-f.k);
+      // Four particles at a time: s = max((-k) / m, -cap) (the same bits as -min(k / m, cap)),
+      // each s spread over its particle's 3 components by shuffles.
+      const __m128 negK = _mm_set1_ps(-f.k), negCap = _mm_set1_ps(-cap);
       for (; i + 4 <= n; i += 4) {
-        const __m128 s4 = _mm_div_ps(negK, _mm_loadu_ps(m + i));
+        const __m128 s4 = _mm_max_ps(_mm_div_ps(negK, _mm_loadu_ps(m + i)), negCap);
         const __m128 s0 = _mm_shuffle_ps(s4, s4, _MM_SHUFFLE(1, 0, 0, 0));
         const __m128 s1 = _mm_shuffle_ps(s4, s4, _MM_SHUFFLE(2, 2, 1, 1));
         const __m128 s2 = _mm_shuffle_ps(s4, s4, _MM_SHUFFLE(3, 3, 3, 2));
@@ -152,7 +158,7 @@ struct Apply {
     }
 #endif
     for (; i < n; ++i) {
-      const Real s = -(f.k / m[i]);
+      const Real s = -std::min(f.k / m[i], cap);
       a[3 * i] += s * vs[3 * i];
       a[3 * i + 1] += s * vs[3 * i + 1];
       a[3 * i + 2] += s * vs[3 * i + 2];
@@ -161,11 +167,13 @@ struct Apply {
   void operator()(const QuadraticDragField& f) const {
     each([&](std::size_t i) {
       const Vec3 vi = v(i);
-      add(i, -(f.k / b.masses[i]) * vi.norm() * vi);
+      add(i, -std::min((f.k / b.masses[i]) * vi.norm(), maxRate()) * vi);
     });
   }
   void operator()(const WindField& f) const {
-    each([&](std::size_t i) { add(i, -(f.k / b.masses[i]) * (v(i) - f.velocity)); });
+    each([&](std::size_t i) {
+      add(i, -std::min(f.k / b.masses[i], maxRate()) * (v(i) - f.velocity));
+    });
   }
   void operator()(const VortexField& f) const {
     const Vec3 axis = f.axis.normalized();
@@ -190,7 +198,7 @@ struct Apply {
       // omega^2 r, a well of frequency omega; a particle at or below the flow's speed is held
       // exactly as before.
       const Real held = std::min(vt * vt, omega * omega * r * r);
-      add(i, f.tightness * (omega * r * tHat - vPlane) - (held / r) * rHat);
+      add(i, std::min(f.tightness, maxRate()) * (omega * r * tHat - vPlane) - (held / r) * rHat);
     }
   }
   void operator()(const AttractorField& f) const {

@@ -505,7 +505,7 @@ std::size_t ParticleSystem::integrateBatch(const StepPlan& plan, std::size_t slo
       } else {
         std::fill_n(acc, 3 * count, Real(0));
       }
-      applyFields(rest, FieldBatch{t, x, v, m, {acc, 3 * count}});
+      applyFields(rest, FieldBatch{t, x, v, m, {acc, 3 * count}, h});
     }
     std::uint16_t near[kBatch];
     detail::ParticleStepBatch batch{.count = count,
@@ -550,7 +550,8 @@ std::size_t ParticleSystem::integrateBatch(const StepPlan& plan, std::size_t slo
                                       {xs.data(), std::size_t(xs.size())},
                                       {vs.data(), std::size_t(vs.size())},
                                       m,
-                                      {a.data(), std::size_t(a.size())}});
+                                      {a.data(), std::size_t(a.size())},
+                                      dragStep(settings_.integrator, h)});
     };
     if (settings_.integrator == ode::Method::BackwardEuler) {
       // Matrix-free Jacobian products by forward differences of the fields, and
@@ -675,7 +676,8 @@ void ParticleSystem::integrateCoupled(Real h, detail::StepWorkers& workers) {
             a.segment(3 * begin, 3 * count).setZero();
             applyFields(fields_, FieldBatch{time, {xs.data() + 3 * begin, 3 * count},
                                             {vs.data() + 3 * begin, 3 * count}, m.subspan(begin, count),
-                                            {a.data() + 3 * begin, 3 * count}});
+                                            {a.data() + 3 * begin, 3 * count},
+                                            dragStep(settings_.integrator, h)});
           }
         });
     springAccelerations({xs.data(), 3 * n}, {vs.data(), 3 * n}, {a.data(), 3 * n});
