@@ -94,9 +94,10 @@ void stepLoops(const ParticleStepBatch& a, ParticleStepCounts& counts) {
           buffer[3 * i + 2] += g2;
         }
       } else {
-        const Real negK = term.negK;
+        // max((-k) / m, -1 / h), as stepRange's (a drag's rate is at most 1 / h)
+        const Real negK = term.negK, negMaxRate = -(1 / h);
         for (std::size_t i = 0; i < n; ++i) {
-          const Real s = negK / m[i];
+          const Real s = std::max(negK / m[i], negMaxRate);
           buffer[3 * i] += s * v[3 * i];
           buffer[3 * i + 1] += s * v[3 * i + 1];
           buffer[3 * i + 2] += s * v[3 * i + 2];
