@@ -211,6 +211,34 @@ TEST(ImplicitEuler, PinnedVerticesDoNotMove) {
   EXPECT_LT(d.position(std::size_t(n * (n + 1))).y(), -0.3f);
 }
 
+// A quadratic drag far stiffer than the step (vertices of 5 g in k = 20: k |v| / m = 4,000 |v|
+// per second), which the implicit step takes explicitly: its rate is capped at 1 / h (FieldBatch::
+// step). Uncapped, a vertex moved at 0.73 m/s after two steps, twice free fall's 0.33 (and
+// scenes/flag.json with such a drag reached 1e23 m within 3 s). Oracle: a drag only
+// removes energy, so no vertex ever moves faster than free fall from rest over the run allows
+// (g t; 1% for the solve's tolerance, which the first step's free fall meets to 1e-5), and the
+// cloth hangs below its pins.
+TEST(ImplicitEuler, StiffQuadraticDragStaysBounded) {
+  const int n = 8;
+  MassSpringModel m = cloth({.size = {1, 1},
+                             .resolution = {n, n},
+                             .mass = 0.4f,
+                             .stiffness = {.stretch = 1e4f, .shear = 1e3f, .bend = 10},
+                             .damping = 0.05f});
+  m.pinned = {0, std::uint32_t(n)};
+  Deformable d({}, m);
+  d.addField({GravityField{}});
+  d.addField({QuadraticDragField{Real(20)}});
+  const Real h = Real(1) / 60, g = Real(9.81);
+  for (int s = 0; s < 120; ++s) {
+    d.step(h);
+    for (std::size_t i = 0; i < d.vertexCount(); ++i)
+      ASSERT_LE(d.velocity(i).norm(), Real(1.01) * g * h * Real(s + 1))
+          << "step " << s << " vertex " << i;
+  }
+  EXPECT_LT(d.position(std::size_t(n * (n + 1))).y(), 0);
+}
+
 // The solve's passes on several threads (a pass over the vertices in place of the serial
 // scatter, sums in spring order) give the same bytes as in sequence: a cloth of more vertices
 // and springs than one block of a pass, pinned, falling onto a sphere, in wind, and without
