@@ -2,6 +2,7 @@
 // vertex state, or Baraff and Witkin's implicit step (implicit_euler.cpp).
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <variant>
 
 #include "deformable/scratch.h"
@@ -13,13 +14,19 @@ namespace inertia {
 
 namespace {
 
-// The linear drag coefficient k (kg/s) a field puts on a vertex at x (F = -k v + ...), for the
-// implicit step's dF/dv; 0 for fields that are not linear in v.
-Real linearDamping(const ForceField& f, const Vec3& x) {
-  if (f.region && !f.region->contains(x)) return 0;
+// The drag coefficient k (kg/s) of a field linear in v (F = -k v + ...: linear drag and wind),
+// which the implicit step's dF/dv holds; none for the other fields.
+std::optional<Real> linearCoefficient(const ForceField& f) {
   if (const auto* drag = std::get_if<LinearDragField>(&f.field)) return drag->k;
   if (const auto* wind = std::get_if<WindField>(&f.field)) return wind->k;
-  return 0;
+  return std::nullopt;
+}
+
+// A field's linear drag coefficient on a vertex at x, for the implicit step's dF/dv (0 outside
+// its region or for fields that are not linear in v).
+Real linearDamping(const ForceField& f, const Vec3& x) {
+  if (f.region && !f.region->contains(x)) return 0;
+  return linearCoefficient(f).value_or(Real(0));
 }
 
 // A guard against float's range, not a cap: 1000 times a rigid body's default speed cap (m/s).
@@ -92,12 +99,9 @@ void Deformable::integrateImplicit(Real h, detail::StepWorkers& workers) {
   // the other fields act explicitly within the step, a quadratic drag's or a vortex's rate
   // capped at 1 / h: uncapped, a cloth of 0.4 g vertices in a quadratic drag of 1 reached 1e23 m
   // within 3 s. Field by field, in order, as applyFields sums them: the same bits.
-  for (const ForceField& f : fields_) {
-    const bool inJacobian = std::holds_alternative<LinearDragField>(f.field) ||
-                            std::holds_alternative<WindField>(f.field);
-    applyFields({&f, 1},
-                FieldBatch{Real(time_), x_, v_, masses_, w.fieldAcceleration, inJacobian ? 0 : h});
-  }
+  for (const ForceField& f : fields_)
+    applyFields({&f, 1}, FieldBatch{Real(time_), x_, v_, masses_, w.fieldAcceleration,
+                                    linearCoefficient(f) ? 0 : h});
   w.fieldDamping.assign(n, Real(0));
   for (const ForceField& f : fields_)
     for (std::size_t i = 0; i < n; ++i)

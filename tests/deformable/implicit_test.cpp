@@ -186,14 +186,19 @@ INSTANTIATE_TEST_SUITE_P(ImplicitEuler, StepSolvesBackwardEuler,
                          testing::Values(DeformableLinearSolver::ConjugateGradient,
                                          DeformableLinearSolver::Direct));
 
+// A unit cloth of n x n cells, stiff (stretch 1e4 N/m) and lightly damped.
+MassSpringModel stiffCloth(int n, Real mass) {
+  return cloth({.size = {1, 1},
+                .resolution = {n, n},
+                .mass = mass,
+                .stiffness = {.stretch = 1e4f, .shear = 1e3f, .bend = 10},
+                .damping = 0.05f});
+}
+
 // Pinned vertices keep their positions to the bit, whatever pulls on them, and free ones move.
 TEST(ImplicitEuler, PinnedVerticesDoNotMove) {
   const int n = 8;
-  MassSpringModel m = cloth({.size = {1, 1},
-                             .resolution = {n, n},
-                             .mass = 0.3f,
-                             .stiffness = {.stretch = 1e4f, .shear = 1e3f, .bend = 10},
-                             .damping = 0.05f});
+  MassSpringModel m = stiffCloth(n, 0.3f);
   m.pinned = {0, std::uint32_t(n), std::uint32_t(n * (n + 1) / 2 + n / 2)};
   Deformable d({}, m);
   d.addField({GravityField{}});
@@ -220,11 +225,7 @@ TEST(ImplicitEuler, PinnedVerticesDoNotMove) {
 // cloth hangs below its pins.
 TEST(ImplicitEuler, StiffQuadraticDragStaysBounded) {
   const int n = 8;
-  MassSpringModel m = cloth({.size = {1, 1},
-                             .resolution = {n, n},
-                             .mass = 0.4f,
-                             .stiffness = {.stretch = 1e4f, .shear = 1e3f, .bend = 10},
-                             .damping = 0.05f});
+  MassSpringModel m = stiffCloth(n, 0.4f);
   m.pinned = {0, std::uint32_t(n)};
   Deformable d({}, m);
   d.addField({GravityField{}});
