@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -264,6 +265,32 @@ void printThreadTable(const Scene& scene, const std::vector<int>& counts,
                   phaseSplit(c.runs[k]).c_str());
 }
 
+// The machine's bound on those speed-ups (bench::sideBySideMs): the default solver's
+// one-thread run alone, then as many copies of it at once as a count has threads, in turn
+// `repeat` times, the fastest of each kept.
+void printMachineBound(const Scene& scene, const std::vector<int>& counts, int repeat) {
+  std::vector<int> copies;
+  for (int n : counts)
+    if (n > 1 && n <= bench::allCores()) copies.push_back(n);
+  if (copies.empty()) return;
+  const auto one = [&scene] { return runInertia(scene, {}, 1).msPerStep; };
+  double alone = std::numeric_limits<double>::infinity();
+  std::vector<double> together(copies.size(), alone);
+  for (int rep = 0; rep < repeat; ++rep) {
+    alone = std::min(alone, one());
+    for (std::size_t k = 0; k < copies.size(); ++k)
+      together[k] = std::min(together[k], bench::sideBySideMs(copies[k], one));
+  }
+  std::printf(
+      "\n| %s: machine bound | copies at once | ms/step alone | ms/step each, side by side | "
+      "bound on the speed-up | core-to-core round trip ns |\n|---|---|---|---|---|---|\n",
+      scene.name.c_str());
+  const double trip = bench::roundTripNs();
+  for (std::size_t k = 0; k < copies.size(); ++k)
+    std::printf("| defaults, 1 thread each | %d | %.2f | %.2f | %.2f | %.0f |\n", copies[k], alone,
+                together[k], copies[k] * alone / together[k], trip);
+}
+
 // Compares every thread count's final state with 1 thread's, byte for byte; prints "same bits"
 // or a loud line naming the first body that differs. Returns whether all were the same.
 bool checkSameBits(const Scene& scene, const std::vector<int>& counts, const ThreadRuns& c) {
@@ -370,11 +397,17 @@ int main(int argc, char** argv) {
         }
     printThreadTable(scene, counts, configs);
     for (const ThreadRuns& c : configs) differentBits += checkSameBits(scene, counts, c) ? 0 : 1;
+    printMachineBound(scene, counts, repeat);
   }
   std::printf(
       "\nms/step: mean wall-clock time of the %d steps%s. Inertia's phase split from "
       "World::phaseTimes(); its speed-up is its ms/step on 1 thread over that on the count "
-      "(WorldSettings::threads, the size of its TBB arena). Bullet: btDiscreteDynamicsWorld, "
+      "(WorldSettings::threads, the size of its TBB arena). Machine bound: N independent worlds "
+      "on 1 thread each stepped at once share only the machine (caches, memory bandwidth, a "
+      "virtual machine's host); N threads of one world share at least that, so N x alone / side "
+      "by side bounds any N-thread speed-up on this machine. Core-to-core round trip: two threads "
+      "handing a cache line to each other and back, what each meeting of a step's workers "
+      "costs at least (one step has hundreds). Bullet: btDiscreteDynamicsWorld, "
       "btDbvtBroadphase, btSequentialImpulseConstraintSolver (defaults: 10 iterations, split "
       "impulse, warm starting 0.85), stepSimulation(1/60, 0), DISABLE_DEACTIVATION.%s Pyramid "
       "max disp.: the largest final displacement of a box from its start; it stands when <= "

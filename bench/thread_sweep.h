@@ -7,6 +7,8 @@
 #include <tbb/info.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -15,6 +17,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 namespace inertia::bench {
@@ -124,6 +127,53 @@ inline std::string countList(const std::vector<int>& counts) {
   std::string list;
   for (int t : counts) list += (list.empty() ? "" : ", ") + std::to_string(t);
   return list;
+}
+
+// The machine's own bound on a thread count's speed-up, which no scheduler can pass: `copies`
+// independent runs of the same one-thread work at once (no data shared, no synchronisation),
+// against one run alone. Those runs share only the machine (its caches, memory bandwidth, a
+// virtual machine's host), and `copies` threads of one world share at least as much, so
+// perfect parallel code on that many threads is at most copies x alone / together times faster
+// than one thread. `run()` makes and times one run and returns its ms/step; the result is the
+// copies' mean. Counts above the cores are not a machine bound (the copies would take turns).
+template <class Run>
+double sideBySideMs(int copies, const Run& run) {
+  std::vector<double> ms(std::size_t(std::max(1, copies)), 0.0);
+  std::vector<std::thread> others;
+  for (int i = 1; i < copies; ++i) others.emplace_back([&ms, &run, i] { ms[std::size_t(i)] = run(); });
+  ms[0] = run();
+  for (std::thread& t : others) t.join();
+  double sum = 0;
+  for (double m : ms) sum += m;
+  return sum / double(ms.size());
+}
+
+// The time (ns) for two threads to hand one cache line to each other and back, the mean of
+// `trips`: a floor under every meeting of a step's workers (a stage's post, claims and end
+// each move such lines between cores). It depends on where the system puts the two threads
+// (one core complex, two, two sockets; a virtual machine's host may move them), so a benchmark
+// prints it beside its speed-ups. 0 with fewer than 2 cores.
+inline double roundTripNs(int trips = 100000) {
+  if (allCores() < 2) return 0;
+  struct alignas(64) Line {
+    std::atomic<int> value{0};
+  } line;
+  std::thread other([&line, trips] {
+    for (int i = 0; i < trips; ++i) {
+      while (line.value.load(std::memory_order_acquire) != 2 * i + 1) {
+      }
+      line.value.store(2 * i + 2, std::memory_order_release);
+    }
+  });
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 0; i < trips; ++i) {
+    line.value.store(2 * i + 1, std::memory_order_release);
+    while (line.value.load(std::memory_order_acquire) != 2 * i + 2) {
+    }
+  }
+  const auto end = std::chrono::steady_clock::now();
+  other.join();
+  return std::chrono::duration<double, std::nano>(end - start).count() / trips;
 }
 
 // FNV-1a (64 bits) over the bytes of a state; -0 and +0, or NaNs of other payloads, hash apart, as
