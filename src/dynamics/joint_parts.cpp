@@ -51,7 +51,11 @@ void RowBlock::invert(const SolverBody& a, const SolverBody& b) {
     if (((ldlt.vectorD().array() >= Real(1e-4) * diagonal.array()) ||
          (diagonal.array() == 0 && ldlt.vectorD().array() == 0))
             .all()) {
-      inverse = ldlt.solve(Eigen::Matrix<Real, N, N>::Identity());
+      // Column by column: Eigen unrolls a fixed-size solve for a vector, while a matrix
+      // right-hand side goes through its blocked triangular solver (packing, GEMM kernels),
+      // which cost a ragdoll scene's joints more than their passes.
+      for (int j = 0; j < N; ++j)
+        inverse.col(j) = ldlt.solve(Eigen::Matrix<Real, N, 1>::Unit(j));
       return;
     }
   }
