@@ -54,8 +54,11 @@ void RowBlock::invert(const SolverBody& a, const SolverBody& b) {
       // Column by column: Eigen unrolls a fixed-size solve for a vector, while a matrix
       // right-hand side goes through its blocked triangular solver (packing, GEMM kernels),
       // which cost a ragdoll scene's joints more than their passes.
-      for (int j = 0; j < N; ++j)
-        inverse.col(j) = ldlt.solve(Eigen::Matrix<Real, N, 1>::Unit(j));
+      for (int j = 0; j < N; ++j) {
+        Eigen::Matrix<Real, N, 1> column = Eigen::Matrix<Real, N, 1>::Unit(j);
+        ldlt.solveInPlace(column);
+        inverse.col(j) = column;
+      }
       return;
     }
   }
