@@ -376,7 +376,8 @@ struct AxisRows {
     const Real lambda =
         -massScale * effectiveMass * (sign * velocity(a, b) + bias) - impulseScale * old;
     accumulated = std::max(old + lambda, Real(0));
-    apply(a, b, sign * (accumulated - old));
+    // An inactive limit (the usual case: speculative, its gap not closing) changes nothing.
+    if (accumulated != old) apply(a, b, sign * (accumulated - old));
   }
 };
 
