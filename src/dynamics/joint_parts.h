@@ -348,7 +348,7 @@ struct AxisRows {
     const Real old = accumulated;
     accumulated =
         std::clamp(old - effectiveMass * (velocity(a, b) - speed), -maxImpulse, maxImpulse);
-    apply(a, b, accumulated - old);
+    if (accumulated != old) apply(a, b, accumulated - old);  // a stalled motor: nothing
   }
   /// A soft row towards C = 0 (a spring or a servo), |impulse| <= maxImpulse.
   void solveSoft(SolverBody& a, SolverBody& b, Real& accumulated, Real C, const Softness& soft,
@@ -357,7 +357,7 @@ struct AxisRows {
     const Real lambda = -soft.massScale * effectiveMass * (velocity(a, b) + jointBias(soft, C)) -
                         soft.impulseScale * old;
     accumulated = std::clamp(old + lambda, -maxImpulse, maxImpulse);
-    apply(a, b, accumulated - old);
+    if (accumulated != old) apply(a, b, accumulated - old);
   }
   /// A one-sided row keeping C >= 0 (C = coordinate - lower, or upper - coordinate with
   /// sign -1): speculative while C > 0 (it lets the gap close in this substep, Box2D v3),
