@@ -148,32 +148,44 @@ double sideBySideMs(int copies, const Run& run) {
   return sum / double(ms.size());
 }
 
-// The time (ns) for two threads to hand one cache line to each other and back, the mean of
-// `trips`: a floor under every meeting of a step's workers (a stage's post, claims and end
-// each move such lines between cores). It depends on where the system puts the two threads
-// (one core complex, two, two sockets; a virtual machine's host may move them), so a benchmark
-// prints it beside its speed-ups. 0 with fewer than 2 cores.
+// The time (ns) for two threads to hand one cache line to each other and back: a floor under
+// every meeting of a step's workers (a stage's post, claims and end each move such lines
+// between cores). It depends on where the system puts the two threads (one core complex, two,
+// two sockets; a virtual machine's host may move them), so a benchmark prints it beside its
+// speed-ups. The mean of up to `trips`, for at most a tenth of a second: on a busy machine the
+// two threads may share a core, and a waiting thread yields it after a thousand spins. 0 with
+// fewer than 2 cores.
 inline double roundTripNs(int trips = 100000) {
   if (allCores() < 2) return 0;
+  constexpr int kStop = -1;
   struct alignas(64) Line {
     std::atomic<int> value{0};
   } line;
-  std::thread other([&line, trips] {
-    for (int i = 0; i < trips; ++i) {
-      while (line.value.load(std::memory_order_acquire) != 2 * i + 1) {
-      }
-      line.value.store(2 * i + 2, std::memory_order_release);
-    }
+  // Waits for `want` (or kStop: false).
+  const auto wait = [&line](int want) {
+    int value = 0;
+    for (int spins = 0; (value = line.value.load(std::memory_order_acquire)) != want &&
+                        value != kStop;)
+      if (++spins > 1000) std::this_thread::yield();
+    return value == want;
+  };
+  std::thread other([&line, &wait] {
+    for (int i = 0; wait(2 * i + 1); ++i) line.value.store(2 * i + 2, std::memory_order_release);
   });
   const auto start = std::chrono::steady_clock::now();
-  for (int i = 0; i < trips; ++i) {
-    line.value.store(2 * i + 1, std::memory_order_release);
-    while (line.value.load(std::memory_order_acquire) != 2 * i + 2) {
-    }
+  int done = 0;
+  while (done < trips) {
+    line.value.store(2 * done + 1, std::memory_order_release);
+    wait(2 * done + 2);
+    // The clock read every 256 trips, not to add its own cost to each.
+    if (++done % 256 == 0 &&
+        std::chrono::steady_clock::now() - start > std::chrono::milliseconds(100))
+      break;
   }
   const auto end = std::chrono::steady_clock::now();
+  line.value.store(kStop, std::memory_order_release);
   other.join();
-  return std::chrono::duration<double, std::nano>(end - start).count() / trips;
+  return std::chrono::duration<double, std::nano>(end - start).count() / done;
 }
 
 // FNV-1a (64 bits) over the bytes of a state; -0 and +0, or NaNs of other payloads, hash apart, as
