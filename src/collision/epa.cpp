@@ -168,6 +168,8 @@ EpaResult epa(const ConvexProxy& a, const ConvexProxy& b, const Simplex& simplex
   };
 
   // Blow a simplex of 1-3 points up to a tetrahedron (the origin on its boundary or inside).
+  constexpr int kMaxSlivers = 64;  // regrowths of a sliver (below) before the result is flat
+  int slivers = 0;
   while (p.nv < 4) {
     if (p.nv == 1) {
       const Vec3 dirs[6] = {Vec3::UnitX(),  Vec3::UnitY(),  Vec3::UnitZ(),
@@ -189,12 +191,19 @@ EpaResult epa(const ConvexProxy& a, const ConvexProxy& b, const Simplex& simplex
       const Vec3 n = (p.v[1].w - p.v[0].w).cross(p.v[2].w - p.v[0].w);
       if (!(n.norm() > eps * scale)) {
         // A sliver: keep its longest edge and grow again from that segment (which adds the
-        // point farthest off its line, so the same sliver cannot come back).
+        // point farthest off its line). The new point is more than eps off that line, yet the
+        // new triangle can be a sliver again against eps * scale (a short edge), with the same
+        // longest edge: the loop went round forever (fuzz input
+        // convex-epa-sliver-cycle-timeout). After kMaxSlivers the difference is taken as flat.
         int i = 0, j = 1;
         Real longest = (p.v[1].w - p.v[0].w).squaredNorm();
         if ((p.v[2].w - p.v[0].w).squaredNorm() > longest)
           longest = (p.v[2].w - p.v[0].w).squaredNorm(), j = 2;
         if ((p.v[2].w - p.v[1].w).squaredNorm() > longest) i = 1, j = 2;
+        if (++slivers > kMaxSlivers)
+          return flatResult(
+              a, b, p,
+              normalizedOr(n, anyOrthogonal(normalizedOr(p.v[j].w - p.v[i].w, Vec3::UnitX()))));
         p.v[0] = p.v[i];
         p.v[1] = p.v[j];
         p.nv = 2;
