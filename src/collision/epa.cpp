@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "gjk.h"
 #include "local_queries.h"
@@ -136,60 +137,66 @@ void faceWitness(const Polytope& p, const Face& f, Vec3& pa, Vec3& pb) {
   }
 }
 
-}  // namespace
+// The bounds of one EPA run, from the size of the Minkowski difference.
+struct Tolerances {
+  Real scale;  // size of the difference: the centres' distance, the simplex's farthest point
+  Real eps;    // lengths below this make the difference flat
+  Real noise;  // rounding of a support point's height over a face
+};
 
-EpaResult epa(const ConvexProxy& a, const ConvexProxy& b, const Simplex& simplex) {
-  Polytope p;
-  for (int i = 0; i < simplex.count; ++i) p.v[p.nv++] = simplex.v[i];
-  if (p.nv == 0) p.v[p.nv++] = supportVertex(a, b, Vec3::UnitX());
+// Adds the support point farthest off the line of p.v[0], p.v[1] (six directions around it);
+// false, with a normal of the line, when the difference is that segment.
+bool growFromSegment(const ConvexProxy& a, const ConvexProxy& b, Polytope& p, Real eps,
+                     Vec3& flatNormal) {
+  const Vec3 axis = normalizedOr(p.v[1].w - p.v[0].w, Vec3::UnitX());
+  const Vec3 n1 = anyOrthogonal(axis), n2 = axis.cross(n1);
+  flatNormal = n1;
+  SimplexVertex best;
+  Real far = 0;
+  for (int k = 0; k < 6; ++k) {
+    const Real angle = Real(k) * Real(M_PI / 3);
+    const SimplexVertex w = supportVertex(a, b, std::cos(angle) * n1 + std::sin(angle) * n2);
+    const Real off = (w.w - p.v[0].w).cross(axis).norm();
+    if (off > far) far = off, best = w;
+  }
+  if (!(far > eps)) return false;
+  p.v[p.nv++] = best;
+  return true;
+}
 
-  Real scale = (a.centre() - b.centre()).norm();
-  for (int i = 0; i < p.nv; ++i) scale = std::max(scale, p.v[i].w.norm());
-  const Real eps = kEpaAbsolute * std::max(scale, std::numeric_limits<Real>::min());
-  const Real noise = kEpaRounding * std::max(scale, std::numeric_limits<Real>::min());
+// Adds the support point farthest from the single point p.v[0] along the six axes; false when
+// the difference is that point.
+bool growFromPoint(const ConvexProxy& a, const ConvexProxy& b, Polytope& p, Real eps) {
+  const Vec3 dirs[6] = {Vec3::UnitX(),  Vec3::UnitY(),  Vec3::UnitZ(),
+                        -Vec3::UnitX(), -Vec3::UnitY(), -Vec3::UnitZ()};
+  SimplexVertex best;
+  Real far = 0;
+  for (const Vec3& d : dirs) {
+    const SimplexVertex w = supportVertex(a, b, d);
+    const Real len = (w.w - p.v[0].w).norm();
+    if (len > far) far = len, best = w;
+  }
+  if (!(far > eps)) return false;
+  p.v[p.nv++] = best;
+  return true;
+}
 
-  // Adds the support point farthest off the line of p.v[0], p.v[1] (six directions around
-  // it); false, with a normal of the line, when the difference is that segment.
-  const auto growFromSegment = [&](Vec3& flatNormal) {
-    const Vec3 axis = normalizedOr(p.v[1].w - p.v[0].w, Vec3::UnitX());
-    const Vec3 n1 = anyOrthogonal(axis), n2 = axis.cross(n1);
-    flatNormal = n1;
-    SimplexVertex best;
-    Real far = 0;
-    for (int k = 0; k < 6; ++k) {
-      const Real angle = Real(k) * Real(M_PI / 3);
-      const SimplexVertex w = supportVertex(a, b, std::cos(angle) * n1 + std::sin(angle) * n2);
-      const Real off = (w.w - p.v[0].w).cross(axis).norm();
-      if (off > far) far = off, best = w;
-    }
-    if (!(far > eps)) return false;
-    p.v[p.nv++] = best;
-    return true;
-  };
-
-  // Blow a simplex of 1-3 points up to a tetrahedron (the origin on its boundary or inside).
+// Blows a simplex of 1-3 points up to a tetrahedron (the origin on its boundary or inside);
+// the flat result instead when the difference has no volume.
+std::optional<EpaResult> growToTetrahedron(const ConvexProxy& a, const ConvexProxy& b,
+                                           Polytope& p, const Tolerances& tol) {
   constexpr int kMaxSlivers = 64;  // regrowths of a sliver (below) before the result is flat
   int slivers = 0;
   while (p.nv < 4) {
     if (p.nv == 1) {
-      const Vec3 dirs[6] = {Vec3::UnitX(),  Vec3::UnitY(),  Vec3::UnitZ(),
-                            -Vec3::UnitX(), -Vec3::UnitY(), -Vec3::UnitZ()};
-      SimplexVertex best;
-      Real far = 0;
-      for (const Vec3& d : dirs) {
-        const SimplexVertex w = supportVertex(a, b, d);
-        const Real len = (w.w - p.v[0].w).norm();
-        if (len > far) far = len, best = w;
-      }
-      if (!(far > eps))
+      if (!growFromPoint(a, b, p, tol.eps))
         return flatResult(a, b, p, normalizedOr(b.centre() - a.centre(), Vec3::UnitY()));
-      p.v[p.nv++] = best;
     } else if (p.nv == 2) {
       Vec3 flatNormal;
-      if (!growFromSegment(flatNormal)) return flatResult(a, b, p, flatNormal);
+      if (!growFromSegment(a, b, p, tol.eps, flatNormal)) return flatResult(a, b, p, flatNormal);
     } else {
       const Vec3 n = (p.v[1].w - p.v[0].w).cross(p.v[2].w - p.v[0].w);
-      if (!(n.norm() > eps * scale)) {
+      if (!(n.norm() > tol.eps * tol.scale)) {
         // A sliver: keep its longest edge and grow again from that segment (which adds the
         // point farthest off its line). The new point is more than eps off that line, yet the
         // new triangle can be a sliver again against eps * scale (a short edge), with the same
@@ -208,68 +215,140 @@ EpaResult epa(const ConvexProxy& a, const ConvexProxy& b, const Simplex& simplex
         p.v[1] = p.v[j];
         p.nv = 2;
         Vec3 flatNormal;
-        if (!growFromSegment(flatNormal)) return flatResult(a, b, p, flatNormal);
+        if (!growFromSegment(a, b, p, tol.eps, flatNormal))
+          return flatResult(a, b, p, flatNormal);
         continue;
       }
       const Vec3 un = n.normalized();
       const SimplexVertex up = supportVertex(a, b, un), down = supportVertex(a, b, -un);
       const Real hUp = un.dot(up.w - p.v[0].w), hDown = -un.dot(down.w - p.v[0].w);
-      if (!(std::max(hUp, hDown) > eps)) return flatResult(a, b, p, un);
+      if (!(std::max(hUp, hDown) > tol.eps)) return flatResult(a, b, p, un);
       p.v[p.nv++] = hUp >= hDown ? up : down;
     }
   }
+  return std::nullopt;
+}
 
-  // The tetrahedron's four faces, wound outward (away from the opposite vertex), and linked.
-  {
-    for (int k = 0; k < 4; ++k) p.w[k] = p.v[k].w.cast<double>();
-    const Vec3d& w0 = p.w[0];
-    const double vol = (p.w[1] - w0).dot((p.w[2] - w0).cross(p.w[3] - w0));
-    if (vol > 0)
-      std::swap(p.v[1], p.v[2]),
-          std::swap(p.w[1], p.w[2]);  // make (0, 1, 2) face away from vertex 3
-    p.addFace(0, 1, 2);
-    p.addFace(0, 3, 1);
-    p.addFace(0, 2, 3);
-    p.addFace(1, 3, 2);
-    // Each edge appears in two faces in opposite directions: link them.
-    for (int fa = 0; fa < 4; ++fa)
-      for (int ea = 0; ea < 3; ++ea)
-        for (int fb = 0; fb < 4; ++fb)
-          for (int eb = 0; eb < 3; ++eb)
-            if (p.f[fa].i[ea] == p.f[fb].i[(eb + 1) % 3] &&
-                p.f[fa].i[(ea + 1) % 3] == p.f[fb].i[eb])
-              p.link(fa, ea, fb, eb);
+// The tetrahedron's four faces, wound outward (away from the opposite vertex), and linked.
+void closeTetrahedron(Polytope& p) {
+  for (int k = 0; k < 4; ++k) p.w[k] = p.v[k].w.cast<double>();
+  const Vec3d& w0 = p.w[0];
+  const double vol = (p.w[1] - w0).dot((p.w[2] - w0).cross(p.w[3] - w0));
+  if (vol > 0)
+    std::swap(p.v[1], p.v[2]), std::swap(p.w[1], p.w[2]);  // (0, 1, 2) faces away from 3
+  p.addFace(0, 1, 2);
+  p.addFace(0, 3, 1);
+  p.addFace(0, 2, 3);
+  p.addFace(1, 3, 2);
+  // Each edge appears in two faces in opposite directions: link them.
+  for (int fa = 0; fa < 4; ++fa)
+    for (int ea = 0; ea < 3; ++ea)
+      for (int fb = 0; fb < 4; ++fb)
+        for (int eb = 0; eb < 3; ++eb)
+          if (p.f[fa].i[ea] == p.f[fb].i[(eb + 1) % 3] &&
+              p.f[fa].i[(ea + 1) % 3] == p.f[fb].i[eb])
+            p.link(fa, ea, fb, eb);
+}
+
+// The live, valid face nearest the origin (-1 when every face is degenerate); among faces tied
+// with it (coplanar pieces of one face of the difference), one that holds the foot of the
+// perpendicular, so the witness points need no clamping. `nearest` is the least distance.
+int nearestFace(const Polytope& p, Real noise, double& nearest) {
+  int best = -1;
+  for (int k = 0; k < p.nf; ++k)
+    if (p.f[k].live && p.f[k].valid && (best < 0 || p.f[k].d < p.f[best].d)) best = k;
+  if (best < 0) return best;
+  nearest = p.f[best].d;
+  for (int k = 0; k < p.nf; ++k) {
+    const Face& f = p.f[k];
+    if (!f.live || !f.valid || f.d > nearest + noise) continue;
+    const Vec3d foot = f.d * f.n;
+    bool inside = true;
+    for (int e = 0; e < 3; ++e) {
+      const Vec3d& x = p.w[f.i[e]];
+      const Vec3d& y = p.w[f.i[(e + 1) % 3]];
+      inside = inside && f.n.dot((y - x).cross(foot - x)) >= 0;
+    }
+    if (inside) return k;
   }
+  return best;
+}
 
+// Horizon edges as (kept face, its edge), in loop order, and the walk's stack.
+struct Horizon {
+  std::array<std::array<int, 2>, kMaxFaces> edges;
+  int count = 0;
+  std::array<std::array<int, 2>, 2 * kMaxFaces + 4> stack;
+};
+
+// Removes the faces the new point wd sees, walking from face `best` (a copy of which is
+// `face`) across edges; an edge into a face it does not see is a horizon edge. Depth first,
+// edges in winding order, so the horizon comes out as one loop in order. False when a bound
+// is hit.
+bool carveHorizon(Polytope& p, int best, const Face& face, const Vec3d& wd, Horizon& h) {
+  int top = 0;
+  h.count = 0;
+  p.removeFace(best);
+  for (int e = 2; e >= 0; --e) h.stack[top++] = {face.adj[e], face.adjEdge[e]};
+  while (top > 0) {
+    const auto [fk, ek] = h.stack[--top];
+    Face& f = p.f[fk];
+    if (!f.live) continue;
+    const bool visible = f.valid && f.n.dot(wd - p.w[f.i[0]]) > 0;
+    if (!visible) {
+      if (h.count == kMaxFaces) return false;
+      h.edges[h.count++] = {fk, ek};
+      continue;
+    }
+    p.removeFace(fk);
+    if (top + 2 > int(h.stack.size())) return false;
+    // Entered across edge ek: continue with the next two edges in winding order.
+    for (int k = 2; k >= 1; --k) {
+      const int e = (ek + k) % 3;
+      h.stack[top++] = {f.adj[e], f.adjEdge[e]};
+    }
+  }
+  return true;
+}
+
+// A new face per horizon edge to vertex iw (reversed, as the removed face held it), then links:
+// to the kept face across the horizon edge and to the neighbours in the loop. False when the
+// polytope would no longer be closed and growing outward.
+bool coneToHorizon(Polytope& p, const Horizon& h, int iw, double nearest, Real noise) {
+  int first = -1, prev = -1;
+  for (int k = 0; k < h.count; ++k) {
+    const auto [fk, ek] = h.edges[k];
+    const int from = p.f[fk].i[(ek + 1) % 3], to = p.f[fk].i[ek];
+    const int nf = p.addFace(from, to, iw);
+    if (nf < 0) return false;
+    p.link(nf, 0, fk, ek);
+    // The polytope only grows, so no face may come nearer than the one replaced: a nearer one
+    // folds inward (rounding on a nearly flat horizon) and would lead the search astray.
+    if (p.f[nf].valid && p.f[nf].d < nearest - noise) return false;
+    if (prev >= 0) {
+      if (p.f[prev].i[1] != from) return false;  // not a loop: rounding made a mess
+      p.link(prev, 1, nf, 2);
+    } else {
+      first = nf;
+    }
+    prev = nf;
+  }
+  if (h.count < 3 || p.f[prev].i[1] != p.f[first].i[0]) return false;
+  p.link(prev, 1, first, 2);
+  return true;
+}
+
+// Expands the closed polytope toward the boundary of the difference, face nearest the origin
+// first, until the support point along its normal reaches no farther than the face.
+EpaResult expand(const ConvexProxy& a, const ConvexProxy& b, Polytope& p, Real noise) {
   EpaResult r;
   r.converged = false;
-  // Horizon edges as (kept face, its edge), in loop order; the walk's stack.
-  std::array<std::array<int, 2>, kMaxFaces> horizon;
-  std::array<std::array<int, 2>, 2 * kMaxFaces + 4> stack;
+  Horizon horizon;
   for (int iter = 0; iter < kMaxVertices; ++iter) {
     r.iterations = iter + 1;
-    int best = -1;
-    for (int k = 0; k < p.nf; ++k)
-      if (p.f[k].live && p.f[k].valid && (best < 0 || p.f[k].d < p.f[best].d)) best = k;
+    double nearest = 0;
+    const int best = nearestFace(p, noise, nearest);
     if (best < 0) break;  // every face degenerate: keep the last answer
-    const double nearest = p.f[best].d;
-    // Among faces tied with the nearest (coplanar pieces of one face of the difference), take
-    // one that holds the foot of the perpendicular, so the witness points need no clamping.
-    for (int k = 0; k < p.nf; ++k) {
-      const Face& f = p.f[k];
-      if (!f.live || !f.valid || f.d > nearest + noise) continue;
-      const Vec3d foot = f.d * f.n;
-      bool inside = true;
-      for (int e = 0; e < 3; ++e) {
-        const Vec3d& x = p.w[f.i[e]];
-        const Vec3d& y = p.w[f.i[(e + 1) % 3]];
-        inside = inside && f.n.dot((y - x).cross(foot - x)) >= 0;
-      }
-      if (inside) {
-        best = k;
-        break;
-      }
-    }
     const Face face = p.f[best];
     r.normal = face.n.cast<Real>();
     r.depth = Real(std::max(face.d, 0.0));
@@ -285,68 +364,30 @@ EpaResult epa(const ConvexProxy& a, const ConvexProxy& b, const Simplex& simplex
     }
     if (p.nv == kMaxVertices) break;
 
-    // Walk from the nearest face across edges, removing the faces w sees; an edge into a face
-    // it does not see is a horizon edge. Depth first, edges in winding order, so the horizon
-    // comes out as one loop in order.
     const int iw = p.nv;
     p.w[p.nv] = wd;
     p.v[p.nv++] = w;
-    int nh = 0, top = 0;
-    p.removeFace(best);
-    for (int e = 2; e >= 0; --e) stack[top++] = {face.adj[e], face.adjEdge[e]};
-    bool broken = false;
-    while (top > 0 && !broken) {
-      const auto [fk, ek] = stack[--top];
-      Face& f = p.f[fk];
-      if (!f.live) continue;
-      const bool visible = f.valid && f.n.dot(wd - p.w[f.i[0]]) > 0;
-      if (!visible) {
-        if (nh == kMaxFaces)
-          broken = true;
-        else
-          horizon[nh++] = {fk, ek};
-        continue;
-      }
-      p.removeFace(fk);
-      if (top + 2 > int(stack.size())) broken = true;
-      // Entered across edge ek: continue with the next two edges in winding order.
-      for (int k = 2; k >= 1 && !broken; --k) {
-        const int e = (ek + k) % 3;
-        stack[top++] = {f.adj[e], f.adjEdge[e]};
-      }
-    }
-    // A new face per horizon edge (reversed, as the removed face held it), then links: to the
-    // kept face across the horizon edge and to the neighbours in the loop.
-    int first = -1, prev = -1;
-    for (int h = 0; h < nh && !broken; ++h) {
-      const auto [fk, ek] = horizon[h];
-      const int from = p.f[fk].i[(ek + 1) % 3], to = p.f[fk].i[ek];
-      const int nf = p.addFace(from, to, iw);
-      if (nf < 0) {
-        broken = true;
-        break;
-      }
-      p.link(nf, 0, fk, ek);
-      // The polytope only grows, so no face may come nearer than the one replaced: a nearer one
-      // folds inward (rounding on a nearly flat horizon) and would lead the search astray.
-      if (p.f[nf].valid && p.f[nf].d < nearest - noise) broken = true;
-      if (prev >= 0) {
-        if (p.f[prev].i[1] != from)
-          broken = true;  // not a loop: rounding made a mess
-        else
-          p.link(prev, 1, nf, 2);
-      } else {
-        first = nf;
-      }
-      prev = nf;
-    }
-    if (!broken && nh >= 3 && p.f[prev].i[1] == p.f[first].i[0]) {
-      p.link(prev, 1, first, 2);
-    } else {
-      break;  // the polytope is no longer closed: keep the answer of this iteration's face
-    }
+    // Past a bound, or once the polytope is no longer closed, keep this iteration's answer.
+    if (!carveHorizon(p, best, face, wd, horizon)) break;
+    if (!coneToHorizon(p, horizon, iw, nearest, noise)) break;
   }
   return r;
+}
+
+}  // namespace
+
+EpaResult epa(const ConvexProxy& a, const ConvexProxy& b, const Simplex& simplex) {
+  Polytope p;
+  for (int i = 0; i < simplex.count; ++i) p.v[p.nv++] = simplex.v[i];
+  if (p.nv == 0) p.v[p.nv++] = supportVertex(a, b, Vec3::UnitX());
+
+  Real scale = (a.centre() - b.centre()).norm();
+  for (int i = 0; i < p.nv; ++i) scale = std::max(scale, p.v[i].w.norm());
+  const Tolerances tol{scale, kEpaAbsolute * std::max(scale, std::numeric_limits<Real>::min()),
+                       kEpaRounding * std::max(scale, std::numeric_limits<Real>::min())};
+  if (auto flat = growToTetrahedron(a, b, p, tol)) return *flat;
+  closeTetrahedron(p);
+  return expand(a, b, p, tol.noise);
 }
 
 }  // namespace inertia::detail
