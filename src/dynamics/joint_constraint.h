@@ -92,6 +92,9 @@ struct JointConstraint {
   bool lockedOnly = false;
   /// A plain ball joint (lockedOnly): its anchors' point constraint is all there is to it.
   bool point = false;
+  /// Solved with its tree (joint_trees.h) for the current position update: the colour passes
+  /// leave it alone.
+  bool inTree = false;
   /// Every locked row of the joint, solved together: a ball joint's anchors (3 rows), a
   /// hinge's anchors and aligned axes (5), a slider's rotation and off-axis offsets (5), a
   /// weld's all (6), a six-DOF joint's locked degrees of freedom. Kept here, in colour order,

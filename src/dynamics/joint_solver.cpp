@@ -251,11 +251,11 @@ void freeRows(JointConstraint& c, const JointRecord& j, const Frame& f, JointPar
 // K^-1, without reading the joint's record. (K^-1 made once a step, at the step's arms, as
 // Jolt's velocity steps do, cost a pendulum of a small bob on a 1 m arm 2.4% of its period at
 // an amplitude of 1.5 rad: the arm turns 0.1 rad in a step.)
-void refreshPoint(JointConstraint& c, const SolverBody& a, const SolverBody& b) {
+void refreshPoint(JointConstraint& c, const SolverBody& a, const SolverBody& b, bool withMass) {
   RowBlock& lock = c.lock;
   lock.setPoint(times(a.dR, c.rA), times(b.dR, c.rB));
   lock.error.head<3>() = (b.dp - a.dp) + (lock.armB - lock.armA) + c.deltaCenter;
-  if (lock.invertPoint(a, b)) return;
+  if (!withMass || lock.invertPoint(a, b)) return;
   RowBlock::Vector C = lock.error.head<3>();
   lock.prepare(a, b, C);  // the rows' LDLT, invertPoint having set the rows
 }
@@ -263,10 +263,10 @@ void refreshPoint(JointConstraint& c, const SolverBody& a, const SolverBody& b) 
 // After a position update: the joint's frame, rows, coordinates and effective masses, which the
 // passes until the next position update share.
 void refresh(JointConstraint& c, const JointRecord& j, const SolverBody& a, const SolverBody& b,
-             int stamp) {
+             int stamp, bool withMass = true) {
   if (c.stamp == stamp) return;
   c.stamp = stamp;
-  if (c.point) return refreshPoint(c, a, b);
+  if (c.point) return refreshPoint(c, a, b, withMass);
   const Frame f = currentFrame(c, a, b);
   if (!c.lockedOnly) freeRows(c, j, f, *c.parts, a, b);
   RowBlock::Vector C;
@@ -399,6 +399,7 @@ void prepareJoints(RigidBodyData& D, std::span<const std::uint32_t> order, StepW
       const JointRecord& j = D.joints[c.joint];
       c.lockedOnly = lockedOnly(j);
       c.point = c.lockedOnly && j.type == JointType::Ball;
+      c.inTree = false;
       const bool world = j.bodyA == kWorldBody;
       const Transform poseA = world ? Transform{} : D.bodies[j.bodyA].pose;
       const Vec3 comA = world ? Vec3::Zero() : D.bodies[j.bodyA].com;
@@ -451,8 +452,17 @@ void warmStartJoint(const RigidBodyData& D, JointConstraint& c, std::vector<Solv
   });
 }
 
+void refreshJoint(const RigidBodyData& D, JointConstraint& c, std::vector<SolverBody>& bodies,
+                  int stamp, bool withMass) {
+  if (c.stamp == stamp) return;
+  withBodies(c, bodies, [&](SolverBody& a, SolverBody& b) {
+    refresh(c, D.joints[c.joint], a, b, stamp, withMass);
+  });
+}
+
 void solveJoint(const RigidBodyData& D, JointConstraint& c, std::vector<SolverBody>& bodies,
                 const JointPass& pass) {
+  if (c.inTree) return;
   withBodies(c, bodies, [&](SolverBody& a, SolverBody& b) {
     if (c.stamp != pass.stamp) refresh(c, D.joints[c.joint], a, b, pass.stamp);
     if (c.lockedOnly)

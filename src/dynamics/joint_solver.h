@@ -79,7 +79,12 @@ void prepareJoints(RigidBodyData& D, std::span<const std::uint32_t> order, StepW
 /// Applies a joint's accumulated impulses to its bodies (rows prepared for `stamp`).
 void warmStartJoint(const RigidBodyData& D, JointConstraint& c, std::vector<SolverBody>& bodies,
                     int stamp);
-/// One pass over a joint's rows.
+/// The joint's rows and effective masses for position update `stamp`, when not yet made; a
+/// plain ball joint's anchors and error only, without its K^-1, when not `withMass` (a joint
+/// tree's, which factors K itself).
+void refreshJoint(const RigidBodyData& D, JointConstraint& c, std::vector<SolverBody>& bodies,
+                  int stamp, bool withMass = true);
+/// One pass over a joint's rows (none for a joint its tree solves: JointConstraint::inTree).
 void solveJoint(const RigidBodyData& D, JointConstraint& c, std::vector<SolverBody>& bodies,
                 const JointPass& pass);
 /// The joint's rows for the LCP solvers (rigid with Baumgarte's bias from `pass`, springs and

@@ -18,6 +18,7 @@
 #include "inertia/ode/step.h"
 #include "islands.h"
 #include "joint_constraint.h"
+#include "joint_trees.h"
 #include "lcp_contact.h"
 
 namespace inertia::detail {
@@ -345,6 +346,7 @@ struct RigidBodyData {
   std::vector<JointConstraint> jointConstraints;  // this step's joints (in colour order)
   std::vector<GraphEdge> jointEdges;              // per joint edge: its solver bodies
   std::vector<std::uint32_t> edgeJoints;          // per joint edge: its JointRecord index
+  JointTrees jointTrees;                          // this step's trees of ball joints
   std::vector<GraphEdge> lcpEdges;                // the contacts' edges, then the joints'
   ConstraintIslands lcpIslands;                   // the LCP solvers' islands of this step
   LcpWorkspace lcp;

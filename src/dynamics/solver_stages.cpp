@@ -265,6 +265,7 @@ void warmStart(Data& D, int stamp, Real h, Real flight, StepWorkers& workers) {
 void solve(Data& D, const BiasMode& mode, const JointPass& jointPass, int iterations,
            StepWorkers& workers) {
   for (int it = 0; it < iterations; ++it) {
+    solveJointTrees(D, jointPass, it == 0, workers);
     forEachColor(
         D, workers,
         [&](std::uint32_t k) { solveJoint(D, D.jointConstraints[k], D.solverBodies, jointPass); },
@@ -466,6 +467,7 @@ void prepareContacts(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
     // in sequence (in edge order each joint of a large grid cost a cache miss or two).
     prepareJoints(D, D.coloring.jointOrder, workers);
     std::iota(D.coloring.jointOrder.begin(), D.coloring.jointOrder.end(), 0u);
+    buildJointTrees(D);
     // The bundles compute the masses themselves, a bundle at a time.
     D.bundles.build(D.constraints, D.solverBodies, D.coloring, workers);
   }
@@ -519,6 +521,7 @@ double solveSubsteps(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
     integratePositions(D, h, workers);
     integrateMultibodyPositions(D, h, workers);
     integrationTime += std::chrono::duration<double>(Clock::now() - ti).count();
+    if (!lcp) projectJointTrees(D, jointRelax.stamp, workers);
     if (!lcp) D.bundles.updateMotion(D.solverBodies, workers);
     if (softStep) relax(D, relaxMode, jointRelax, s.solver.relaxIterations, workers);
   }

@@ -69,6 +69,7 @@ struct SolverSettings {
   /// by F / (m (2 pi jointHertz)^2) at rest: 17 um for a body hanging at its centre at 120 Hz,
   /// four times that at 60 Hz. Box2D v3 makes joints 60 Hz (twice its 30 Hz contacts) and
   /// solves one iteration; at 120 Hz a 100 x 100 joint grid needs three (bench/joints_bench.cpp).
+  /// Trees of plain ball joints are solved exactly and projected instead (joint_trees.h).
   Real jointHertz = 120;
   Real jointDampingRatio = 2;
 };
