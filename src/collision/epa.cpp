@@ -219,7 +219,7 @@ std::optional<EpaResult> growToTetrahedron(const ConvexProxy& a, const ConvexPro
           return flatResult(a, b, p, flatNormal);
         continue;
       }
-      const Vec3 un = n.normalized();
+      const Vec3 un = unitOf(n);  // |n| > eps scale: not zero, but perhaps tiny
       const SimplexVertex up = supportVertex(a, b, un), down = supportVertex(a, b, -un);
       const Real hUp = un.dot(up.w - p.v[0].w), hDown = -un.dot(down.w - p.v[0].w);
       if (!(std::max(hUp, hDown) > tol.eps)) return flatResult(a, b, p, un);

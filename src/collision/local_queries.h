@@ -18,6 +18,16 @@ inline Vec3 normalizedOr(const Vec3& v, const Vec3& fallback) {
   return fallback;
 }
 
+/// v / |v| for finite non-zero v, also where |v|^2 falls below float's normal range and so
+/// keeps too few bits to normalise by (a cross product of edges of 1e-11 m, 1e-22 m^2, whose
+/// square is denormal, came out 0.999 long): there v is first scaled by its largest component.
+inline Vec3 unitOf(const Vec3& v) {
+  const Real n2 = v.squaredNorm();
+  if (n2 > std::numeric_limits<Real>::min()) return v / std::sqrt(n2);
+  const Vec3 u = v / v.cwiseAbs().maxCoeff();
+  return u / u.norm();
+}
+
 /// queryPoint with the point and the answer in the collider's local frame.
 PointQuery queryPointLocal(const Collider& collider, const Vec3& p);
 
