@@ -310,6 +310,12 @@ void prepareTree(RigidBodyData& D, std::size_t t, int stamp) {
   }
 }
 
+// v scaled down to length `limit` when longer.
+Vec3 clampedNorm(const Vec3& v, Real limit) {
+  const Real length = v.norm();
+  return length > limit ? Vec3(v * (limit / length)) : v;
+}
+
 // A displacement of the anchors (the position analogue of an impulse): the bodies move by
 // M^-1 J^T lambda.
 void displace(RigidBodyData& D, const JointConstraint& c, const Vec3& lambda) {
@@ -390,7 +396,12 @@ void solveJointTrees(RigidBodyData& D, const JointPass& pass, bool firstPass,
 
 namespace inertia::detail {
 
-void projectJointTrees(RigidBodyData& D, int stamp, StepWorkers& workers) {
+void projectJointTrees(RigidBodyData& D, const JointPass& pass, StepWorkers& workers) {
+  const int stamp = pass.stamp;
+  // No joint's anchors move more in a substep than its bias would move them (kMaxJointBias):
+  // a joint created with its anchors far apart draws them together over several substeps, as
+  // the per-joint passes do, instead of carrying its bodies across the scene at once.
+  const Real maxStep = kMaxJointBias * pass.h;
   JointTrees& T = D.jointTrees;
   workers.parallelFor(
       T.treeCount(),
@@ -399,7 +410,8 @@ void projectJointTrees(RigidBodyData& D, int stamp, StepWorkers& workers) {
           prepareTree(D, t, stamp);
           if (!T.factored[t]) continue;
           for (std::uint32_t e = T.treeOffsets[t]; e < T.treeOffsets[t + 1]; ++e)
-            T.rhs[e] = D.jointConstraints[T.joints[e]].lock.error.head<3>();
+            T.rhs[e] =
+                clampedNorm(D.jointConstraints[T.joints[e]].lock.error.head<3>(), maxStep);
           solveFactored(T, t);
           for (std::uint32_t e = T.treeOffsets[t]; e < T.treeOffsets[t + 1]; ++e)
             displace(D, D.jointConstraints[T.joints[e]], -T.rhs[e]);

@@ -87,8 +87,9 @@ void buildJointTrees(RigidBodyData& D);
 /// coefficients' massScale + impulseScale = 1, an exact solve leaves the next one nothing.
 void solveJointTrees(RigidBodyData& D, const JointPass& pass, bool firstPass, StepWorkers& workers);
 
-/// After a position update (`stamp`): each tree's bodies moved so that its joints' anchors
-/// meet to first order (post-stabilisation, Cline and Pai 2003): dx = -M^-1 J^T K^-1 C.
-void projectJointTrees(RigidBodyData& D, int stamp, StepWorkers& workers);
+/// After a position update (`pass.stamp`): each tree's bodies moved so that its joints'
+/// anchors meet to first order (post-stabilisation, Cline and Pai 2003): dx = -M^-1 J^T K^-1 C,
+/// each joint's C shortened to at most kMaxJointBias times the substep.
+void projectJointTrees(RigidBodyData& D, const JointPass& pass, StepWorkers& workers);
 
 }  // namespace inertia::detail

@@ -521,7 +521,7 @@ double solveSubsteps(Data& D, const DynamicsSettings& s, Real dt, StepWorkers& w
     integratePositions(D, h, workers);
     integrateMultibodyPositions(D, h, workers);
     integrationTime += std::chrono::duration<double>(Clock::now() - ti).count();
-    if (!lcp) projectJointTrees(D, jointRelax.stamp, workers);
+    if (!lcp) projectJointTrees(D, jointRelax, workers);
     if (!lcp) D.bundles.updateMotion(D.solverBodies, workers);
     if (softStep) relax(D, relaxMode, jointRelax, s.solver.relaxIterations, workers);
   }

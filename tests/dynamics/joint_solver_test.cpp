@@ -282,6 +282,31 @@ TEST(JointTree, FreeBranchingTreeKeepsItsMomentumAndItsJointsClosed) {
   EXPECT_LT(worst, Real(5e-6));
 }
 
+// A tree's projection moves no joint's anchors more in a substep than its bias may
+// (kMaxJointBias = 1000 m/s times the substep, 4.2 m at 1/240 s): a joint created between two
+// bodies 1 km apart (anchors at their centres, so K is the inverse masses and one unclamped
+// projection closes it to rounding) closes over many substeps, not at once. In the first
+// step's four substeps the projection and the bias's velocity close at most 4 (4.2 + 4.2) =
+// 33 m of it.
+TEST(JointTree, ProjectionClosesAFarJointGradually) {
+  World world([] {
+    WorldSettings s = quietWorld();
+    s.gravity = Vec3::Zero();
+    return s;
+  }());
+  const BodyId a = world.createBody({.position = Vec3(0, -1, 0)});
+  const BodyId b = world.createBody({.position = Vec3(1000, -1, 0)});
+  world.addShape(a, Sphere{Real(0.2)});
+  world.addShape(b, Sphere{Real(0.2)});
+  world.createJoint(BallJointSettings{.bodyB = a, .anchorA = Vec3::Zero(), .anchorB = Vec3(0, 1, 0)});
+  const JointId far = world.createJoint(BallJointSettings{
+      .bodyA = a, .bodyB = b, .anchorA = Vec3::Zero(), .anchorB = Vec3::Zero()});
+  world.step(kDt);
+  const Real error = world.rigidBodies().jointError(far).position;
+  EXPECT_TRUE(std::isfinite(error));
+  EXPECT_GT(error, Real(1000 - 33));
+}
+
 TEST(JointChain, HeavyBobOnALightChainStaysWithinACentimetre) {
   CapsuleChain c(20, 100);
   Real worst = 0;
