@@ -381,6 +381,9 @@ void buildJointTrees(RigidBodyData& D) {
 void solveJointTrees(RigidBodyData& D, const JointPass& pass, bool firstPass,
                      StepWorkers& workers) {
   JointTrees& T = D.jointTrees;
+  // Passes after the first with every tree alone: nothing to do, and no meeting of the workers.
+  if (!firstPass && std::all_of(T.alone.begin(), T.alone.end(), [](auto a) { return a != 0; }))
+    return;
   workers.parallelFor(
       T.treeCount(),
       [&](std::size_t first, std::size_t last) {
